@@ -1,0 +1,105 @@
+/* csv.c: writing the benchmark CSV (see csv.h). */
+#include "csv.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <string.h>
+
+const char *const csv_columns[] = {
+    "scene", "prims", "accel", "params", "workload", "rays", "threads", "seed", "rayset_hash",
+    "build_ms", "trace_ms", "trace_ms_min", "trace_ms_max", "mrays_per_s", "ratio_vs_embree",
+    "mem_bytes", "bytes_per_prim", "tests_per_ray", "prim_hits_per_ray", "box_tests_per_ray",
+    "steps_per_ray", "empty_leaves_per_ray", "mailbox_hits_per_ray", "agree", "mismatch_real",
+    "mismatch_edge", "mismatch_tol", "mismatch_refwrong", "serial", "res", "spp", "repeat",
+    "git_rev", "machine", "cpu", "date", NULL,
+};
+
+static void header_line(char *buf, size_t len)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (int i = 0; csv_columns[i] && n < len; i++) n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? "," : "", csv_columns[i]);
+}
+
+FILE *csv_open(const char *path, char *err, size_t errlen)
+{
+    char header[1024];
+    header_line(header, sizeof header);
+    FILE *f = fopen(path, "a+");
+    if (!f) {
+        snprintf(err, errlen, "%s: cannot open for appending: %s", path, strerror(errno));
+        return NULL;
+    }
+    fseek(f, 0, SEEK_END);
+    if (ftell(f) == 0) {
+        fprintf(f, "%s\n", header);
+        fflush(f);
+        return f;
+    }
+    char first[1024] = "";
+    rewind(f);
+    if (!fgets(first, sizeof first, f)) first[0] = 0;
+    first[strcspn(first, "\r\n")] = 0;
+    if (strcmp(first, header) != 0) {
+        snprintf(err, errlen, "%s: exists with other columns; choose a new --out", path);
+        fclose(f);
+        return NULL;
+    }
+    fseek(f, 0, SEEK_END);
+    return f;
+}
+
+/* RFC 4180: quote a field holding a comma, quote or newline. */
+static void put_text(FILE *f, const char *s)
+{
+    if (!s) s = "";
+    if (!strpbrk(s, ",\"\n\r")) {
+        fputs(s, f);
+        return;
+    }
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"') fputc('"', f);
+        fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+static void put_per_ray(FILE *f, const csv_row *r, uint64_t total)
+{
+    if (r->has_counters) fprintf(f, ",%.6g", r->rays ? (double)total / (double)r->rays : 0.0);
+    else fputc(',', f);
+}
+
+void csv_write_row(FILE *f, const csv_row *r)
+{
+    put_text(f, r->scene);
+    fprintf(f, ",%" PRIu32 ",", r->prims);
+    put_text(f, r->accel);
+    fputc(',', f);
+    put_text(f, r->params);
+    fputc(',', f);
+    put_text(f, r->workload);
+    fprintf(f, ",%" PRIu32 ",%d,%" PRIu64 ",%016" PRIx64, r->rays, r->threads, r->seed, r->rayset_hash);
+    fprintf(f, ",%.4f,%.4f,%.4f,%.4f,%.6g,%.6g", r->build_ms, r->trace_ms, r->trace_ms_min, r->trace_ms_max,
+            r->mrays_per_s, r->ratio_vs_embree);
+    fprintf(f, ",%" PRIu64 ",%.6g", r->mem_bytes, r->prims ? (double)r->mem_bytes / r->prims : 0.0);
+    put_per_ray(f, r, r->counters.prim_tests);
+    put_per_ray(f, r, r->counters.prim_hits);
+    put_per_ray(f, r, r->counters.box_tests);
+    put_per_ray(f, r, r->counters.steps);
+    put_per_ray(f, r, r->counters.empty_leaves);
+    put_per_ray(f, r, r->counters.mailbox_hits);
+    fprintf(f, ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64, r->agree, r->mismatch_real,
+            r->mismatch_edge, r->mismatch_tol, r->mismatch_refwrong);
+    fprintf(f, ",%d,%dx%d,%d,%d,", r->serial ? 1 : 0, r->width, r->height, r->spp, r->repeat);
+    put_text(f, r->git_rev);
+    fputc(',', f);
+    put_text(f, r->machine);
+    fputc(',', f);
+    put_text(f, r->cpu);
+    fputc(',', f);
+    put_text(f, r->date);
+    fputc('\n', f);
+    fflush(f);
+}

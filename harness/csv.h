@@ -1,0 +1,38 @@
+/* csv.h: the tidy benchmark CSV, one row per (scene, accel+params,
+ * workload, threads). Rows are appended and flushed as each cell finishes,
+ * so an interrupted run loses at most the cell it was in. Counter columns
+ * are per ray (averages); they are empty for accelerators whose counters
+ * are not observable (Embree). The column list is csv_columns. */
+#ifndef ACCELBENCH_CSV_H
+#define ACCELBENCH_CSV_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include "../prims/ray.h"
+
+typedef struct {
+    const char *scene;
+    uint32_t prims;
+    const char *accel, *params, *workload;
+    uint32_t rays;
+    int threads;
+    uint64_t seed, rayset_hash;
+    double build_ms, trace_ms, trace_ms_min, trace_ms_max, mrays_per_s, ratio_vs_embree;
+    uint64_t mem_bytes;
+    bool has_counters;
+    counters_t counters;       /* totals; divided by rays when written */
+    uint64_t agree, mismatch_real, mismatch_edge, mismatch_tol, mismatch_refwrong;
+    bool serial;               /* traced on one thread because the accelerator mutates */
+    int width, height, spp, repeat;
+    const char *git_rev, *machine, *cpu, *date;
+} csv_row;
+
+extern const char *const csv_columns[];
+
+/* Open PATH for appending; writes the header when the file is new or
+ * empty, refuses a file whose header differs. NULL + err on failure. */
+FILE *csv_open(const char *path, char *err, size_t errlen);
+void csv_write_row(FILE *f, const csv_row *r);
+
+#endif

@@ -1,0 +1,100 @@
+/* main.c: the accelbench program: subcommand dispatch and `list`.
+ *
+ *   accelbench list [accels|scenes|workloads]
+ *   accelbench run     --scenes L --accels L --workloads L [...]   benchmark matrix -> CSV + plots
+ *   accelbench verify  --scenes L --accels L --workloads L [...]   agreement with Embree
+ *   accelbench render  --scene S --accel A --out FILE.png [...]    image or cost heat map
+ *
+ * Exit status: 0 success, 1 verify found a real mismatch, 2 bad input. */
+#include <stdio.h>
+#include <string.h>
+#include "matrix.h"
+#include "options.h"
+#include "render.h"
+#include "version.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "accelbench: ray tracing acceleration structures side by side, checked against Embree\n"
+            "\n"
+            "usage: accelbench COMMAND [options]   (accelbench COMMAND --help for its options)\n"
+            "  list [accels|scenes|workloads]   names, summaries, parameters with defaults\n"
+            "  run      benchmark matrix: scenes x accels x workloads -> DIR/matrix.csv and plots\n"
+            "  verify   every ray's answer against Embree; mismatches classified and replayable\n"
+            "  render   a shaded image or a per-pixel cost heat map through one accelerator\n"
+            "  version  the build's git revision\n"
+            "\n"
+            "example: accelbench run --scenes spd:balls:3,bunny --accels exhaustive,embree --res 64x64\n");
+}
+
+static void list_accels(void)
+{
+    printf("accelerators (--accels; parameters with --param ACCEL.KEY=VALUE):\n");
+    for (int i = 0; accel_registry[i]; i++) {
+        const struct accel_ops *a = accel_registry[i];
+        printf("  %-14s %s\n", a->name, a->summary);
+        printf("  %-14s paper: %s\n", "", a->paper);
+        if (a->flags & (ACCEL_MUTATES | ACCEL_SHADOW_ONLY | ACCEL_OPAQUE))
+            printf("  %-14s flags:%s%s%s\n", "", a->flags & ACCEL_MUTATES ? " mutates-while-tracing(traced on 1 thread)" : "",
+                   a->flags & ACCEL_SHADOW_ONLY ? " shadow-rays-only" : "",
+                   a->flags & ACCEL_OPAQUE ? " counters-not-observable" : "");
+        for (int k = 0; a->params[k].name; k++)
+            printf("  %-14s   %s=%s  %s\n", "", a->params[k].name, a->params[k].default_value, a->params[k].help);
+    }
+}
+
+static void list_workloads(void)
+{
+    printf("workloads (--workloads; image size --res WxH, --spp N, --corners, --depth N, --seed S):\n");
+    for (int i = 0; workload_table[i].name; i++)
+        printf("  %-11s %-8s %s\n", workload_table[i].name, workload_table[i].query == QUERY_ANY ? "any-hit" : "closest",
+               workload_table[i].summary);
+}
+
+static int cmd_list(int argc, char **argv)
+{
+    const char *what = argc > 1 ? argv[1] : "all";
+    if (strcmp(what, "--help") == 0 || strcmp(what, "-h") == 0) {
+        printf("usage: accelbench list [accels|scenes|workloads]\n");
+        return 0;
+    }
+    bool all = strcmp(what, "all") == 0;
+    if (!all && strcmp(what, "accels") && strcmp(what, "scenes") && strcmp(what, "workloads")) {
+        fprintf(stderr, "accelbench list: unknown list '%s' (accels, scenes or workloads)\n", what);
+        return 2;
+    }
+    if (all || !strcmp(what, "accels")) list_accels();
+    if (all || !strcmp(what, "scenes")) {
+        printf("scenes (--scenes):\n");
+        scene_catalogue_print(stdout);
+    }
+    if (all || !strcmp(what, "workloads")) list_workloads();
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "version") || !strcmp(cmd, "--version")) {
+        printf("accelbench %s\n", ACCELBENCH_GIT_REV);
+        return 0;
+    }
+    if (!strcmp(cmd, "list")) return cmd_list(argc - 1, argv + 1);
+    int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? matrix_verify
+                                                            : !strcmp(cmd, "render") ? render_main : NULL;
+    if (!run) {
+        fprintf(stderr, "accelbench: unknown command '%s' (see accelbench --help)\n", cmd);
+        return 2;
+    }
+    options o;
+    int rc = options_parse(&o, cmd, argc - 1, argv + 1);
+    if (rc == 0) rc = run(&o);
+    else if (rc == 1) rc = 0; /* --help */
+    options_free(&o);
+    return rc;
+}

@@ -1,0 +1,378 @@
+/* matrix.c: the run and verify loops (see matrix.h). */
+#include "matrix.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include "csv.h"
+#include "machine.h"
+#include "trace.h"
+#include "verify.h"
+
+#ifndef ACCELBENCH_SOURCE_DIR
+#define ACCELBENCH_SOURCE_DIR "."
+#endif
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+typedef struct { double median, min, max; } timing;
+
+/* Time `repeat` traces (after the caller's warm-up) and summarise them. */
+static timing time_traces(accel *a, const rayset_t *rs, int threads, int repeat, answers_t *scratch)
+{
+    double *ms = calloc((size_t)repeat, sizeof *ms);
+    if (!ms) abort();
+    for (int k = 0; k < repeat; k++) ms[k] = trace_rayset(a, rs, threads, scratch);
+    qsort(ms, (size_t)repeat, sizeof *ms, cmp_double);
+    timing t = {repeat % 2 ? ms[repeat / 2] : 0.5 * (ms[repeat / 2 - 1] + ms[repeat / 2]), ms[0], ms[repeat - 1]};
+    free(ms);
+    return t;
+}
+
+static int mkdir_p(const char *path)
+{
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++)
+        if (*p == '/') {
+            *p = 0;
+            if (mkdir(buf, 0777) && errno != EEXIST) return -1;
+            *p = '/';
+        }
+    return mkdir(buf, 0777) && errno != EEXIST ? -1 : 0;
+}
+
+/* The scene-and-workload part of a cell: the ray set and the reference's answers. */
+typedef struct {
+    rayset_t *rs;
+    answers_t *ref;
+    accel *ref_accel;
+} cell_input;
+
+static const struct accel_ops *reference_ops(void) { return accel_find("embree"); }
+
+static accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen)
+{
+    const struct accel_ops *ops = reference_ops();
+    accel_params p;
+    params_defaults(&p, ops->params);
+    p.threads = threads;
+    accel *a = ops->build(s, &p, err, errlen);
+    if (a) a->ops = ops;
+    return a;
+}
+
+static int save_rays(const options *o, const rayset_t *rs, int nsets)
+{
+    char path[1024], err[512];
+    if (nsets == 1) {
+        snprintf(path, sizeof path, "%s", o->save_rays);
+    } else {
+        if (mkdir_p(o->save_rays)) {
+            fprintf(stderr, "accelbench: --save-rays %s: cannot create folder: %s\n", o->save_rays, strerror(errno));
+            return -1;
+        }
+        char safe[256];
+        snprintf(safe, sizeof safe, "%s", rs->scene);
+        for (char *p = safe; *p; p++)
+            if (*p == '/' || *p == ':') *p = '_';
+        snprintf(path, sizeof path, "%s/%s__%s.rays", o->save_rays, safe, rs->workload);
+    }
+    if (rayset_save(rs, path, err, sizeof err)) {
+        fprintf(stderr, "accelbench: %s\n", err);
+        return -1;
+    }
+    if (!o->quiet) fprintf(stderr, "  saved %u rays (hash %016llx) to %s\n", rs->count, (unsigned long long)rs->hash, path);
+    return 0;
+}
+
+/* Make (or load) the ray set and the reference answers for one workload. */
+static int cell_prepare(const options *o, const scene_t *s, accel *ref, const workload_def *w, cell_input *in)
+{
+    char err[512];
+    in->ref_accel = ref;
+    if (o->rays_file) {
+        in->rs = rayset_load(o->rays_file, err, sizeof err);
+        if (!in->rs) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            return -1;
+        }
+        if (strcmp(in->rs->scene, s->name) != 0)
+            fprintf(stderr, "accelbench: warning: %s was made for scene '%s', replaying on '%s'\n", o->rays_file,
+                    in->rs->scene, s->name);
+    } else {
+        in->rs = w->make(s, ref, &o->wl);
+    }
+    in->ref = answers_new(in->rs, false);
+    trace_rayset(ref, in->rs, o->threads, in->ref);
+    return 0;
+}
+
+static void cell_release(cell_input *in)
+{
+    answers_free(in->ref);
+    rayset_free(in->rs);
+    memset(in, 0, sizeof *in);
+}
+
+static bool accel_runs_workload(const struct accel_ops *ops, query_kind q)
+{
+    return !(ops->flags & ACCEL_SHADOW_ONLY) || q == QUERY_ANY;
+}
+
+static accel *build_accel(const accel_config *ac, const scene_t *s, double *ms, char *err, size_t errlen)
+{
+    double t0 = clock_ms();
+    accel *a = ac->ops->build(s, &ac->params, err, errlen);
+    *ms = clock_ms() - t0;
+    if (a) {
+        a->ops = ac->ops;
+        a->scene = s;
+    }
+    return a;
+}
+
+static void run_plots(const char *csv_path, bool quiet)
+{
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s/scripts/plot.py' '%s' %s", ACCELBENCH_SOURCE_DIR, csv_path,
+             quiet ? "--quiet" : "");
+    int rc = system(cmd);
+    if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
+}
+
+int matrix_run(options *o)
+{
+    machine_info mi;
+    machine_describe(&mi);
+    char out_dir[1024], csv_path[1100], err[512];
+    if (o->out) snprintf(out_dir, sizeof out_dir, "%s", o->out);
+    else {
+        char stamp[32];
+        time_t now = time(NULL);
+        struct tm tm;
+        gmtime_r(&now, &tm);
+        strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
+        snprintf(out_dir, sizeof out_dir, "results/%s", stamp);
+    }
+    if (mkdir_p(out_dir)) {
+        fprintf(stderr, "accelbench: %s: cannot create output folder: %s\n", out_dir, strerror(errno));
+        return 2;
+    }
+    snprintf(csv_path, sizeof csv_path, "%s/matrix.csv", out_dir);
+    FILE *csv = csv_open(csv_path, err, sizeof err);
+    if (!csv) {
+        fprintf(stderr, "accelbench: %s\n", err);
+        return 2;
+    }
+    char info_path[1100];
+    snprintf(info_path, sizeof info_path, "%s/run.txt", out_dir);
+    FILE *info = fopen(info_path, "a");
+    if (info) {
+        fprintf(info, "command: %s\nmachine: %s\ncpu: %s\ngit_rev: %s\ndate: %s\nthreads: %d\nrepeat: %d (after 1 warm-up; median reported)\n\n",
+                o->argv_line, mi.host, mi.cpu, mi.git_rev, mi.date, o->threads, o->repeat);
+        fclose(info);
+    }
+    int total = o->nscenes * o->nworkloads * o->naccels, done = 0, status = 0;
+    double wall0 = clock_ms();
+    for (int si = 0; si < o->nscenes; si++) {
+        double t0 = clock_ms();
+        scene_t *s = scene_load(o->scenes[si], err, sizeof err);
+        if (!s) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            status = 2;
+            break;
+        }
+        if (!o->quiet) fprintf(stderr, "scene %s: %u primitives (%u triangles, %u spheres), loaded in %.0f ms\n", s->name,
+                               s->prims.count, s->prims.ntris, s->prims.nspheres, clock_ms() - t0);
+        accel *ref = build_reference(s, o->threads, err, sizeof err);
+        if (!ref) {
+            fprintf(stderr, "accelbench: %s: reference build failed: %s\n", s->name, err);
+            scene_free(s);
+            status = 2;
+            break;
+        }
+        int nw = o->rays_file ? 1 : o->nworkloads;
+        for (int wi = 0; wi < nw && status == 0; wi++) {
+            cell_input in;
+            if (cell_prepare(o, s, ref, o->workloads[wi], &in)) {
+                status = 2;
+                break;
+            }
+            if (o->save_rays && save_rays(o, in.rs, o->nscenes * nw)) status = 2;
+            /* Embree's time on the same rays, same run: the denominator of ratio_vs_embree. */
+            answers_t *scratch = answers_new(in.rs, false);
+            timing ref_time = time_traces(ref, in.rs, o->threads, o->repeat, scratch);
+            for (int ai = 0; ai < o->naccels && status == 0; ai++) {
+                const accel_config *ac = &o->accels[ai];
+                done++;
+                if (!accel_runs_workload(ac->ops, in.rs->query)) continue;
+                double build_ms;
+                accel *a = build_accel(ac, s, &build_ms, err, sizeof err);
+                if (!a) {
+                    fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
+                    status = 2;
+                    break;
+                }
+                int threads = (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads;
+                answers_t *got = answers_new(in.rs, false);
+                trace_rayset(a, in.rs, threads, got); /* warm-up: answers and counters */
+                verify_result vr;
+                verify_answers(s, in.rs, got, in.ref, &vr);
+                timing tt = time_traces(a, in.rs, threads, o->repeat, scratch);
+                csv_row row = {
+                    .scene = s->name, .prims = s->prims.count, .accel = ac->ops->name, .params = ac->params_str,
+                    .workload = in.rs->workload, .rays = in.rs->count, .threads = threads, .seed = in.rs->seed,
+                    .rayset_hash = in.rs->hash, .build_ms = build_ms, .trace_ms = tt.median, .trace_ms_min = tt.min,
+                    .trace_ms_max = tt.max, .mrays_per_s = tt.median > 0 ? in.rs->count / (tt.median * 1e3) : 0,
+                    .ratio_vs_embree = ref_time.median > 0 ? tt.median / ref_time.median : 0,
+                    .mem_bytes = a->ops->memory(a), .has_counters = !(ac->ops->flags & ACCEL_OPAQUE),
+                    .counters = got->total, .agree = vr.agree, .mismatch_real = vr.mismatches[MM_REAL],
+                    .mismatch_edge = vr.mismatches[MM_EDGE], .mismatch_tol = vr.mismatches[MM_TOL],
+                    .mismatch_refwrong = vr.mismatches[MM_REFWRONG], .serial = threads != o->threads,
+                    .width = o->wl.width, .height = o->wl.height, .spp = o->wl.spp, .repeat = o->repeat,
+                    .git_rev = mi.git_rev, .machine = mi.host, .cpu = mi.cpu, .date = mi.date,
+                };
+                csv_write_row(csv, &row);
+                if (!o->quiet)
+                    fprintf(stderr, "[%d/%d] %s %s %s: %u rays, build %.1f ms, trace %.2f ms (%.3f Mrays/s, %.2fx embree), agree %llu, real mismatches %llu\n",
+                            done, total, s->name, ac->ops->name, in.rs->workload, in.rs->count, build_ms, tt.median,
+                            row.mrays_per_s, row.ratio_vs_embree, (unsigned long long)vr.agree,
+                            (unsigned long long)vr.mismatches[MM_REAL]);
+                answers_free(got);
+                a->ops->destroy(a);
+            }
+            answers_free(scratch);
+            cell_release(&in);
+        }
+        ref->ops->destroy(ref);
+        scene_free(s);
+        if (status) break;
+    }
+    fclose(csv);
+    if (!o->quiet) fprintf(stderr, "wrote %s (%d cells, %.1f s)\n", csv_path, done, (clock_ms() - wall0) / 1e3);
+    if (o->plots && status == 0) run_plots(csv_path, o->quiet);
+    return status;
+}
+
+/* ------------------------------------------------------------------ verify */
+
+static void print_answer(const char *who, const rayset_t *rs, const answers_t *a, uint32_t i)
+{
+    if (rs->query == QUERY_ANY) printf("    %-12s %s\n", who, a->occluded[i] ? "occluded" : "clear");
+    else if (a->hits[i].prim == HIT_NONE) printf("    %-12s miss\n", who);
+    else printf("    %-12s prim %u t=%.9g u=%.6f v=%.6f\n", who, a->hits[i].prim, a->hits[i].t, a->hits[i].u, a->hits[i].v);
+}
+
+static void replay_ray(const scene_t *s, const rayset_t *rs, uint32_t i, const answers_t *got, const answers_t *ref, const char *accel_name)
+{
+    const ray_t *r = &rs->rays[i];
+    printf("  ray %u of %s/%s (hash %016llx): org (%.9g %.9g %.9g) dir (%.9g %.9g %.9g) t [%.9g, %.9g) light %d\n", i,
+           s->name, rs->workload, (unsigned long long)rs->hash, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y,
+           r->dir.z, r->tnear, r->tfar, r->light == RAY_NO_LIGHT ? -1 : (int)r->light);
+    print_answer(accel_name, rs, got, i);
+    print_answer("embree", rs, ref, i);
+    uint32_t prim;
+    double t = verify_exact_closest(s, r, &prim);
+    if (t < 0) printf("    %-12s miss\n", "exact(f64)");
+    else
+        printf("    %-12s prim %u t=%.12g, %.3g from the primitive's boundary\n", "exact(f64)", prim, t,
+               prim_boundary_distance(&s->prims, prim, r, t));
+}
+
+static void print_mismatch(const scene_t *s, const rayset_t *rs, const mismatch_t *m, const char *accel_name, const char *scene_arg)
+{
+    printf("    ray %-8u %-8s ", m->ray, mismatch_class_name[m->cls]);
+    if (rs->query == QUERY_ANY) printf("%s: %s, embree: %s", accel_name, m->got_occ ? "occluded" : "clear", m->ref_occ ? "occluded" : "clear");
+    else {
+        if (m->got.prim == HIT_NONE) printf("%s: miss", accel_name);
+        else printf("%s: prim %u t=%.7g", accel_name, m->got.prim, m->got.t);
+        if (m->ref.prim == HIT_NONE) printf(", embree: miss");
+        else printf(", embree: prim %u t=%.7g", m->ref.prim, m->ref.t);
+    }
+    if (!isnan(m->exact_t)) {
+        if (m->exact_t < 0) printf(", exact: miss");
+        else printf(", exact: prim %u t=%.7g", m->exact_prim, m->exact_t);
+    }
+    printf("\n      replay: accelbench verify --scenes %s --workloads %s --accels %s --ray %u\n", scene_arg, rs->workload,
+           accel_name, m->ray);
+    (void)s;
+}
+
+int matrix_verify(options *o)
+{
+    char err[512];
+    int status = 0;
+    bool any_real = false;
+    printf("%-22s %-11s %-24s %9s %9s %6s %6s %8s %6s\n", "scene", "workload", "accel", "rays", "agree", "edge", "tol",
+           "refwrong", "real");
+    for (int si = 0; si < o->nscenes && !status; si++) {
+        scene_t *s = scene_load(o->scenes[si], err, sizeof err);
+        if (!s) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            return 2;
+        }
+        accel *ref = build_reference(s, o->threads, err, sizeof err);
+        if (!ref) {
+            fprintf(stderr, "accelbench: %s: reference build failed: %s\n", s->name, err);
+            scene_free(s);
+            return 2;
+        }
+        int nw = o->rays_file ? 1 : o->nworkloads;
+        for (int wi = 0; wi < nw && !status; wi++) {
+            cell_input in;
+            if (cell_prepare(o, s, ref, o->workloads[wi], &in)) {
+                status = 2;
+                break;
+            }
+            if (o->save_rays && save_rays(o, in.rs, o->nscenes * nw)) status = 2;
+            if (o->ray_index >= (long)in.rs->count) {
+                fprintf(stderr, "accelbench: --ray %ld: the %s ray set of %s has %u rays\n", o->ray_index, in.rs->workload,
+                        s->name, in.rs->count);
+                status = 2;
+            }
+            for (int ai = 0; ai < o->naccels && !status; ai++) {
+                const accel_config *ac = &o->accels[ai];
+                if (!accel_runs_workload(ac->ops, in.rs->query)) continue;
+                double build_ms;
+                accel *a = build_accel(ac, s, &build_ms, err, sizeof err);
+                if (!a) {
+                    fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
+                    status = 2;
+                    break;
+                }
+                answers_t *got = answers_new(in.rs, false);
+                trace_rayset(a, in.rs, (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads, got);
+                verify_result vr;
+                verify_answers(s, in.rs, got, in.ref, &vr);
+                char label[96];
+                snprintf(label, sizeof label, "%s%s%s%s", ac->ops->name, ac->params_str[0] ? "[" : "", ac->params_str,
+                         ac->params_str[0] ? "]" : "");
+                printf("%-22s %-11s %-24s %9u %9llu %6llu %6llu %8llu %6llu\n", s->name, in.rs->workload, label,
+                       in.rs->count, (unsigned long long)vr.agree, (unsigned long long)vr.mismatches[MM_EDGE],
+                       (unsigned long long)vr.mismatches[MM_TOL], (unsigned long long)vr.mismatches[MM_REFWRONG],
+                       (unsigned long long)vr.mismatches[MM_REAL]);
+                if (vr.mismatches[MM_REAL]) any_real = true;
+                if (o->ray_index >= 0) replay_ray(s, in.rs, (uint32_t)o->ray_index, got, in.ref, ac->ops->name);
+                else
+                    for (uint32_t k = 0; k < vr.nlisted; k++) print_mismatch(s, in.rs, &vr.listed[k], ac->ops->name, o->scenes[si]);
+                answers_free(got);
+                a->ops->destroy(a);
+            }
+            cell_release(&in);
+        }
+        ref->ops->destroy(ref);
+        scene_free(s);
+    }
+    fflush(stdout);
+    if (status) return status;
+    return any_real ? 1 : 0;
+}

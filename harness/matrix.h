@@ -1,0 +1,15 @@
+/* matrix.h: the scene x accelerator x workload loop behind `run` and
+ * `verify`. Data flows one way: scene -> ray set -> reference answers ->
+ * each accelerator's build, warm-up trace (answers and counters), verify,
+ * timed repeats -> CSV row / verify table. */
+#ifndef ACCELBENCH_MATRIX_H
+#define ACCELBENCH_MATRIX_H
+
+#include "options.h"
+
+/* `accelbench run`: returns the process exit status. */
+int matrix_run(options *o);
+/* `accelbench verify`: returns 0, 1 (a real mismatch) or 2 (bad input). */
+int matrix_verify(options *o);
+
+#endif

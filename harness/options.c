@@ -1,0 +1,277 @@
+/* options.c: parsing the selectors and knobs shared by run, verify and
+ * render (getopt_long). Every error is one line naming the option and the
+ * value, and returns 2. */
+#include "options.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP };
+
+static const struct option long_opts[] = {
+    {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
+    {"accels", required_argument, NULL, 'a'},  {"accel", required_argument, NULL, 'a'},
+    {"workloads", required_argument, NULL, 'w'}, {"workload", required_argument, NULL, 'w'},
+    {"threads", required_argument, NULL, 't'}, {"repeat", required_argument, NULL, 'n'},
+    {"param", required_argument, NULL, 'p'},   {"res", required_argument, NULL, 'r'},
+    {"seed", required_argument, NULL, 'S'},    {"out", required_argument, NULL, 'o'},
+    {"spp", required_argument, NULL, OPT_SPP}, {"corners", no_argument, NULL, OPT_CORNERS},
+    {"depth", required_argument, NULL, OPT_DEPTH},
+    {"save-rays", required_argument, NULL, OPT_SAVE_RAYS}, {"rays", required_argument, NULL, OPT_RAYS},
+    {"ray", required_argument, NULL, OPT_RAY}, {"no-plots", no_argument, NULL, OPT_NO_PLOTS},
+    {"heatmap", required_argument, NULL, OPT_HEATMAP}, {"quiet", no_argument, NULL, 'q'},
+    {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
+};
+
+void options_usage(FILE *out, const char *cmd)
+{
+    if (strcmp(cmd, "render") == 0) {
+        fprintf(out,
+                "usage: accelbench render --scene S --accel A --out FILE.png [options]\n"
+                "  Whitted ray tracing (point-light shadows, mirror reflection to depth 3)\n"
+                "  through any accelerator that answers closest-hit queries.\n"
+                "  --heatmap tests|steps   write a per-pixel cost image of the primary rays instead\n"
+                "  --res WxH               image size (default: the scene's view, e.g. 512x512)\n"
+                "  --spp N                 samples per pixel (default 1)\n"
+                "  --param ACCEL.KEY=VALUE accelerator parameter (see accelbench list accels)\n"
+                "  --threads N             threads for the heat map's tracing (default: all cores)\n");
+        return;
+    }
+    fprintf(out,
+            "usage: accelbench %s --scenes LIST --accels LIST --workloads LIST [options]\n"
+            "  LIST is comma-separated; see `accelbench list` for the names.\n"
+            "  --scenes LIST           scene names: spd:balls:3, spd:balls:2:t, bunny, a mesh path ...\n"
+            "  --accels LIST           accelerators (default: exhaustive,embree)\n"
+            "  --workloads LIST        primary,shadow,reflection,diffuse,random (default: all)\n"
+            "  --param ACCEL.KEY=VALUE set an accelerator parameter (repeatable)\n"
+            "  --res WxH               primary image size (default 128x128)\n"
+            "  --spp N                 samples per pixel (default 1)\n"
+            "  --corners               rays through pixel corners, (W+1)x(H+1) (SPD's rule)\n"
+            "  --depth N               reflection generations (default 3)\n"
+            "  --seed S                random seed of the ray sets (default 1)\n"
+            "  --threads N             tracing threads (default: all cores)\n"
+            "  --rays FILE             replay a saved ray set instead of making workloads\n"
+            "  --save-rays PATH        save the ray sets (a file for one set, else a folder)\n",
+            cmd);
+    if (strcmp(cmd, "run") == 0)
+        fprintf(out,
+                "  --repeat N              timed repeats after one warm-up; the median is reported (default 5)\n"
+                "  --out DIR               output folder (default results/<date-time>); matrix.csv is appended\n"
+                "  --no-plots              do not call scripts/plot.py at the end\n"
+                "  Every cell is verified against Embree as it runs; mismatch counts go in the CSV.\n");
+    else
+        fprintf(out,
+                "  --ray I                 replay ray I: print every answer and the exact arbiter's\n"
+                "  Exit status: 0 when no real mismatch, 1 on any real mismatch, 2 on bad input.\n");
+}
+
+/* Split a comma list in place into parts. */
+static int split(char *s, const char **parts, int max, const char *what)
+{
+    int n = 0;
+    for (char *tok = strtok(s, ","); tok; tok = strtok(NULL, ",")) {
+        if (n == max) {
+            fprintf(stderr, "accelbench: too many %s (at most %d)\n", what, max);
+            return -1;
+        }
+        parts[n++] = tok;
+    }
+    if (n == 0) {
+        fprintf(stderr, "accelbench: empty list of %s\n", what);
+        return -1;
+    }
+    return n;
+}
+
+static int parse_long(const char *opt, const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || end == s || *end || v < lo || v > hi) {
+        fprintf(stderr, "accelbench: --%s %s: expected an integer in %ld..%ld\n", opt, s, lo, hi);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int parse_res(const char *s, workload_opts *w)
+{
+    int x, y;
+    char tail;
+    if (sscanf(s, "%dx%d%c", &x, &y, &tail) != 2 || x < 1 || y < 1 || x > 16384 || y > 16384) {
+        fprintf(stderr, "accelbench: --res %s: expected WxH with 1 <= W, H <= 16384\n", s);
+        return -1;
+    }
+    w->width = x;
+    w->height = y;
+    return 0;
+}
+
+static char *join_args(int argc, char **argv)
+{
+    size_t len = 1;
+    for (int i = 0; i < argc; i++) len += strlen(argv[i]) + 3;
+    char *s = calloc(len, 1);
+    if (!s) abort();
+    for (int i = 0; i < argc; i++) {
+        if (i) strcat(s, " ");
+        bool q = strpbrk(argv[i], " \t'\"") != NULL;
+        if (q) strcat(s, "'");
+        strcat(s, argv[i]);
+        if (q) strcat(s, "'");
+    }
+    return s;
+}
+
+int options_parse(options *o, const char *cmd, int argc, char **argv)
+{
+    memset(o, 0, sizeof *o);
+    long nproc = sysconf(_SC_NPROCESSORS_ONLN);
+    o->threads = nproc > 0 ? (int)nproc : 1;
+    o->repeat = 5;
+    o->ray_index = -1;
+    o->plots = true;
+    o->wl = (workload_opts){.width = 128, .height = 128, .spp = 1, .depth = 3, .seed = 1};
+    o->argv_line = join_args(argc, argv);
+    const char *accels_arg = "exhaustive,embree", *workloads_arg = NULL;
+    const char *params[OPT_LIST_MAX];
+    int nparams = 0;
+    bool res_given = false;
+    long v;
+    int c;
+    optind = 1;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "hq", long_opts, NULL)) != -1) {
+        switch (c) {
+        case 's': {
+            char *dup = strdup(optarg);
+            int n = split(dup, o->scenes + o->nscenes, OPT_LIST_MAX - o->nscenes, "scenes");
+            if (n < 0) return 2;
+            o->nscenes += n;
+            break;
+        }
+        case 'a': accels_arg = optarg; break;
+        case 'w': workloads_arg = optarg; break;
+        case 't': if (parse_long("threads", optarg, 1, 1024, &v)) return 2; o->threads = (int)v; break;
+        case 'n': if (parse_long("repeat", optarg, 1, 1000, &v)) return 2; o->repeat = (int)v; break;
+        case 'p':
+            if (nparams == OPT_LIST_MAX) { fprintf(stderr, "accelbench: too many --param\n"); return 2; }
+            params[nparams++] = optarg;
+            break;
+        case 'r': if (parse_res(optarg, &o->wl)) return 2; res_given = true; break;
+        case 'S': {
+            char *end;
+            errno = 0;
+            unsigned long long s = strtoull(optarg, &end, 10);
+            if (errno || end == optarg || *end) { fprintf(stderr, "accelbench: --seed %s: expected an unsigned integer\n", optarg); return 2; }
+            o->wl.seed = s;
+            break;
+        }
+        case 'o': o->out = optarg; break;
+        case OPT_SPP: if (parse_long("spp", optarg, 1, 4096, &v)) return 2; o->wl.spp = (int)v; break;
+        case OPT_DEPTH: if (parse_long("depth", optarg, 1, 64, &v)) return 2; o->wl.depth = (int)v; break;
+        case OPT_CORNERS: o->wl.corners = true; break;
+        case OPT_SAVE_RAYS: o->save_rays = optarg; break;
+        case OPT_RAYS: o->rays_file = optarg; break;
+        case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
+        case OPT_NO_PLOTS: o->plots = false; break;
+        case OPT_HEATMAP:
+            if (strcmp(optarg, "tests") && strcmp(optarg, "steps")) {
+                fprintf(stderr, "accelbench: --heatmap %s: expected tests or steps\n", optarg);
+                return 2;
+            }
+            o->heatmap = optarg;
+            break;
+        case 'q': o->quiet = true; break;
+        case 'h': options_usage(stdout, cmd); return 1;
+        default:
+            fprintf(stderr, "accelbench %s: unknown or incomplete option '%s' (see accelbench %s --help)\n", cmd,
+                    argv[optind - 1], cmd);
+            return 2;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "accelbench %s: unexpected argument '%s' (see accelbench %s --help)\n", cmd, argv[optind], cmd);
+        return 2;
+    }
+    if (o->nscenes == 0) {
+        fprintf(stderr, "accelbench %s: no scene given (--scenes LIST; see accelbench list scenes)\n", cmd);
+        return 2;
+    }
+    o->res_given = res_given;
+
+    /* Accelerators, then their parameters. */
+    const char *names[OPT_LIST_MAX];
+    char *dup = strdup(accels_arg);
+    int na = split(dup, names, OPT_LIST_MAX, "accelerators");
+    if (na < 0) return 2;
+    for (int i = 0; i < na; i++) {
+        const struct accel_ops *ops = accel_find(names[i]);
+        if (!ops) {
+            fprintf(stderr, "accelbench: unknown accelerator '%s' (see: accelbench list accels)\n", names[i]);
+            return 2;
+        }
+        o->accels[i].ops = ops;
+        params_defaults(&o->accels[i].params, ops->params);
+        o->accels[i].params.threads = o->threads;
+    }
+    o->naccels = na;
+    for (int k = 0; k < nparams; k++) {
+        char buf[256];
+        snprintf(buf, sizeof buf, "%s", params[k]);
+        char *dot = strchr(buf, '.'), *eq = strchr(buf, '=');
+        if (!dot || !eq || eq < dot) {
+            fprintf(stderr, "accelbench: --param %s: expected ACCEL.KEY=VALUE\n", params[k]);
+            return 2;
+        }
+        *dot = 0;
+        *eq = 0;
+        bool used = false;
+        for (int i = 0; i < o->naccels; i++) {
+            if (strcmp(o->accels[i].ops->name, buf) != 0) continue;
+            char err[256];
+            if (params_set(&o->accels[i].params, dot + 1, eq + 1, err, sizeof err)) {
+                fprintf(stderr, "accelbench: --param %s: %s: %s\n", params[k], buf, err);
+                return 2;
+            }
+            used = true;
+        }
+        if (!used) {
+            fprintf(stderr, "accelbench: --param %s: accelerator '%s' is not in --accels\n", params[k], buf);
+            return 2;
+        }
+    }
+    for (int i = 0; i < o->naccels; i++) params_format(&o->accels[i].params, o->accels[i].params_str, sizeof o->accels[i].params_str);
+
+    /* Workloads. */
+    if (!workloads_arg) {
+        for (int i = 0; workload_table[i].name; i++) o->workloads[o->nworkloads++] = &workload_table[i];
+    } else {
+        const char *wn[OPT_LIST_MAX];
+        char *wdup = strdup(workloads_arg);
+        int nw = split(wdup, wn, OPT_LIST_MAX, "workloads");
+        if (nw < 0) return 2;
+        for (int i = 0; i < nw; i++) {
+            const workload_def *w = workload_find(wn[i]);
+            if (!w) {
+                fprintf(stderr, "accelbench: unknown workload '%s' (see: accelbench list workloads)\n", wn[i]);
+                return 2;
+            }
+            o->workloads[o->nworkloads++] = w;
+        }
+    }
+    if (o->rays_file && o->nscenes != 1) {
+        fprintf(stderr, "accelbench: --rays replays one ray set: give exactly one scene\n");
+        return 2;
+    }
+    o->wl.threads = o->threads;
+    return 0;
+}
+
+void options_free(options *o) { free(o->argv_line); }

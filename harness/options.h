@@ -1,0 +1,45 @@
+/* options.h: the command line of accelbench's subcommands. */
+#ifndef ACCELBENCH_OPTIONS_H
+#define ACCELBENCH_OPTIONS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "../accel/accel.h"
+#include "workload.h"
+
+#define OPT_LIST_MAX 64
+
+typedef struct {
+    const struct accel_ops *ops;
+    accel_params params;
+    char params_str[512];
+} accel_config;
+
+typedef struct {
+    const char *scenes[OPT_LIST_MAX];
+    int nscenes;
+    accel_config accels[OPT_LIST_MAX];
+    int naccels;
+    const workload_def *workloads[OPT_LIST_MAX];
+    int nworkloads;
+    workload_opts wl;     /* res, spp, corners, depth, seed, threads */
+    int threads;
+    int repeat;
+    const char *out;      /* run: output folder; render: PNG path */
+    const char *rays_file;
+    const char *save_rays;
+    long ray_index;       /* verify --ray I, or -1 */
+    bool plots;           /* run: call scripts/plot.py at the end */
+    const char *heatmap;  /* render: NULL, "tests" or "steps" */
+    bool quiet;
+    bool res_given;       /* --res was on the command line */
+    char *argv_line;      /* the command as typed, for run.txt */
+} options;
+
+/* Parse the options of subcommand `cmd` (run, verify, render). Returns 0,
+ * 1 after printing --help, or 2 after printing a one-line error. */
+int options_parse(options *o, const char *cmd, int argc, char **argv);
+void options_free(options *o);
+void options_usage(FILE *out, const char *cmd);
+
+#endif

@@ -1,0 +1,251 @@
+/* workload.c: making the ray sets (see workload.h). */
+#include "workload.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "rng.h"
+#include "trace.h"
+
+/* rng streams: one per use, so workloads never share random numbers */
+enum { STREAM_PIXEL = 1, STREAM_DIFFUSE = 2, STREAM_RANDOM = 3 };
+
+static inline float ulp_step(float x, int ulps)
+{
+    int32_t i;
+    memcpy(&i, &x, sizeof i);
+    i += x < 0.0f ? -ulps : ulps;
+    float r;
+    memcpy(&r, &i, sizeof r);
+    return r;
+}
+
+vec3 offset_origin(vec3 p, vec3 n)
+{
+    /* Near zero an ulp is tiny, so use a fixed absolute step there. */
+    const float near_zero = 1.0f / 32.0f, abs_step = 1.0f / 65536.0f, ulps = 256.0f;
+    float c[3] = {p.x, p.y, p.z}, d[3] = {n.x, n.y, n.z};
+    for (int k = 0; k < 3; k++) {
+        int steps = (int)(ulps * d[k]);
+        float moved = ulp_step(c[k], steps);
+        c[k] = fabsf(c[k]) < near_zero ? c[k] + abs_step * d[k] : moved;
+    }
+    return v3(c[0], c[1], c[2]);
+}
+
+void hit_frame(const scene_t *s, const ray_t *r, const hit_t *h, vec3 *p, vec3 *n)
+{
+    *p = v3_madd(r->org, r->dir, h->t);
+    vec3 g = prim_normal(&s->prims, h, r);
+    *n = v3_dot(g, r->dir) > 0.0f ? v3_scale(g, -1.0f) : g;
+}
+
+/* Camera frame shared by primary rays: unit forward, and right/up scaled
+ * so that one pixel step moves the image-plane point by one pixel. */
+typedef struct { vec3 from, forward, right, up; float x0, y0; } eye_t;
+
+static eye_t eye_setup(const camera_t *cam, int width, int height)
+{
+    eye_t e;
+    e.from = cam->from;
+    e.forward = v3_norm(v3_sub(cam->at, cam->from));
+    vec3 right = v3_norm(v3_cross(e.forward, cam->up));
+    vec3 up = v3_cross(right, e.forward);
+    /* NFF: fov spans the centres of the top and bottom pixel rows. */
+    float half = tanf(cam->fov_deg * (float)M_PI / 360.0f);
+    float step = height > 1 ? 2.0f * half / (float)(height - 1) : 2.0f * half;
+    e.right = v3_scale(right, step);
+    e.up = v3_scale(up, -step); /* pixel y grows downward */
+    e.x0 = 0.5f * (float)(width - 1);
+    e.y0 = 0.5f * (float)(height - 1);
+    return e;
+}
+
+static ray_t eye_ray(const eye_t *e, float px, float py, float hither)
+{
+    vec3 d = v3_add(e->forward, v3_add(v3_scale(e->right, px - e->x0), v3_scale(e->up, py - e->y0)));
+    ray_t r = {e->from, hither, v3_norm(d), INFINITY, RAY_NO_LIGHT, 0};
+    return r;
+}
+
+rayset_t *workload_primary(const scene_t *s, const workload_opts *o)
+{
+    rayset_t *rs = rayset_new("primary", s->name, o->seed, QUERY_CLOSEST);
+    int w = o->width, h = o->height, spp = o->spp < 1 ? 1 : o->spp;
+    rs->width = (uint32_t)w;
+    rs->height = (uint32_t)h;
+    rs->spp = (uint32_t)spp;
+    eye_t e = eye_setup(&s->camera, w, h);
+    float hither = s->camera.hither > 0.0f ? s->camera.hither : 0.0f;
+    if (o->corners) {
+        /* (w+1) x (h+1) corner rays; each is charged to the pixel below-right of it (clamped). */
+        for (int y = 0; y <= h; y++)
+            for (int x = 0; x <= w; x++) {
+                ray_t r = eye_ray(&e, (float)x - 0.5f, (float)y - 0.5f, hither);
+                uint32_t px = (uint32_t)((y < h ? y : h - 1) * w + (x < w ? x : w - 1));
+                rayset_push(rs, &r, px);
+            }
+        rs->spp = 1;
+    } else {
+        /* spp samples stratified on a ceil(sqrt(spp))^2 grid, jittered per cell. */
+        int side = (int)ceilf(sqrtf((float)spp));
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                uint32_t pixel = (uint32_t)(y * w + x);
+                for (int k = 0; k < spp; k++) {
+                    float sx = 0.0f, sy = 0.0f;
+                    if (spp > 1) {
+                        uint64_t idx = (uint64_t)pixel * (uint64_t)spp + (uint64_t)k;
+                        sx = ((float)(k % side) + rng_float(o->seed, STREAM_PIXEL, idx, 0)) / (float)side - 0.5f;
+                        sy = ((float)(k / side) + rng_float(o->seed, STREAM_PIXEL, idx, 1)) / (float)side - 0.5f;
+                    }
+                    ray_t r = eye_ray(&e, (float)x + sx, (float)y + sy, hither);
+                    rayset_push(rs, &r, pixel);
+                }
+            }
+    }
+    rayset_seal(rs);
+    return rs;
+}
+
+static rayset_t *make_primary(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    (void)ref;
+    return workload_primary(s, o);
+}
+
+/* Trace the primary rays through the reference; the caller frees both. */
+static answers_t *reference_hits(accel *ref, const rayset_t *prim, const workload_opts *o)
+{
+    answers_t *a = answers_new(prim, false);
+    trace_rayset(ref, prim, o->threads, a);
+    return a;
+}
+
+static rayset_t *make_shadow(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    rayset_t *prim = workload_primary(s, o);
+    answers_t *a = reference_hits(ref, prim, o);
+    rayset_t *rs = rayset_new("shadow", s->name, o->seed, QUERY_ANY);
+    rs->width = prim->width, rs->height = prim->height, rs->spp = prim->spp;
+    for (uint32_t i = 0; i < prim->count; i++) {
+        if (a->hits[i].prim == HIT_NONE) continue;
+        vec3 p, n;
+        hit_frame(s, &prim->rays[i], &a->hits[i], &p, &n);
+        vec3 org = offset_origin(p, n);
+        for (uint32_t l = 0; l < s->nlights; l++) {
+            vec3 to = v3_sub(s->lights[l], org);
+            float dist = v3_len(to);
+            /* SPD rule: no shadow ray from a surface facing away from the light. */
+            if (!(dist > 0.0f) || v3_dot(to, n) <= 0.0f) continue;
+            ray_t r = {org, 0.0f, v3_scale(to, 1.0f / dist), dist, l, 0};
+            rayset_push(rs, &r, prim->pixel[i]);
+        }
+    }
+    answers_free(a);
+    rayset_free(prim);
+    rayset_seal(rs);
+    return rs;
+}
+
+static vec3 reflect(vec3 d, vec3 n) { return v3_sub(d, v3_scale(n, 2.0f * v3_dot(d, n))); }
+
+static rayset_t *make_reflection(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    rayset_t *gen = workload_primary(s, o);
+    rayset_t *rs = rayset_new("reflection", s->name, o->seed, QUERY_CLOSEST);
+    rs->width = gen->width, rs->height = gen->height, rs->spp = gen->spp;
+    int depth = o->depth > 0 ? o->depth : 3;
+    for (int g = 1; g <= depth && gen->count; g++) {
+        answers_t *a = reference_hits(ref, gen, o);
+        rayset_t *next = rayset_new("reflection", s->name, o->seed, QUERY_CLOSEST);
+        next->width = gen->width; /* keep pixel tracking on */
+        for (uint32_t i = 0; i < gen->count; i++) {
+            if (a->hits[i].prim == HIT_NONE) continue;
+            vec3 p, n;
+            hit_frame(s, &gen->rays[i], &a->hits[i], &p, &n);
+            ray_t r = {offset_origin(p, n), 0.0f, v3_norm(reflect(gen->rays[i].dir, n)), INFINITY, RAY_NO_LIGHT, 0};
+            rayset_push(next, &r, gen->pixel[i]);
+            rayset_push(rs, &r, gen->pixel[i]);
+        }
+        answers_free(a);
+        rayset_free(gen);
+        gen = next;
+    }
+    rayset_free(gen);
+    rayset_seal(rs);
+    return rs;
+}
+
+/* A cosine-distributed direction about n (Malley's method: uniform disk
+ * point lifted to the hemisphere). */
+static vec3 cosine_dir(vec3 n, float u1, float u2)
+{
+    vec3 a = fabsf(n.x) > 0.9f ? v3(0, 1, 0) : v3(1, 0, 0);
+    vec3 t = v3_norm(v3_cross(a, n)), b = v3_cross(n, t);
+    float r = sqrtf(u1), phi = 2.0f * (float)M_PI * u2;
+    float z = sqrtf(fmaxf(0.0f, 1.0f - u1));
+    return v3_norm(v3_add(v3_scale(n, z), v3_add(v3_scale(t, r * cosf(phi)), v3_scale(b, r * sinf(phi)))));
+}
+
+static rayset_t *make_diffuse(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    rayset_t *prim = workload_primary(s, o);
+    answers_t *a = reference_hits(ref, prim, o);
+    rayset_t *rs = rayset_new("diffuse", s->name, o->seed, QUERY_CLOSEST);
+    rs->width = prim->width, rs->height = prim->height, rs->spp = prim->spp;
+    for (uint32_t i = 0; i < prim->count; i++) {
+        if (a->hits[i].prim == HIT_NONE) continue;
+        vec3 p, n;
+        hit_frame(s, &prim->rays[i], &a->hits[i], &p, &n);
+        vec3 d = cosine_dir(n, rng_float(o->seed, STREAM_DIFFUSE, i, 0), rng_float(o->seed, STREAM_DIFFUSE, i, 1));
+        ray_t r = {offset_origin(p, n), 0.0f, d, INFINITY, RAY_NO_LIGHT, 0};
+        rayset_push(rs, &r, prim->pixel[i]);
+    }
+    answers_free(a);
+    rayset_free(prim);
+    rayset_seal(rs);
+    return rs;
+}
+
+static rayset_t *make_random(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    (void)ref;
+    rayset_t *rs = rayset_new("random", s->name, o->seed, QUERY_CLOSEST);
+    /* The box grown by 5% so that segments also start and end outside the geometry. */
+    box3 b = s->bounds;
+    vec3 ext = box_extent(b), pad = v3_scale(ext, 0.05f);
+    b.lo = v3_sub(b.lo, pad);
+    ext = v3_add(ext, v3_scale(pad, 2.0f));
+    uint64_t n = (uint64_t)o->width * (uint64_t)o->height * (uint64_t)(o->spp < 1 ? 1 : o->spp);
+    for (uint64_t i = 0, draw = 0; i < n; draw++) {
+        vec3 p0 = v3_add(b.lo, v3_mul(ext, v3(rng_float(o->seed, STREAM_RANDOM, draw, 0), rng_float(o->seed, STREAM_RANDOM, draw, 1),
+                                              rng_float(o->seed, STREAM_RANDOM, draw, 2))));
+        vec3 p1 = v3_add(b.lo, v3_mul(ext, v3(rng_float(o->seed, STREAM_RANDOM, draw, 3), rng_float(o->seed, STREAM_RANDOM, draw, 4),
+                                              rng_float(o->seed, STREAM_RANDOM, draw, 5))));
+        vec3 d = v3_sub(p1, p0);
+        float len = v3_len(d);
+        if (!(len > 0.0f)) continue; /* a zero-length segment is redrawn */
+        ray_t r = {p0, 0.0f, v3_scale(d, 1.0f / len), len, RAY_NO_LIGHT, 0};
+        rayset_push(rs, &r, 0);
+        i++;
+    }
+    rayset_seal(rs);
+    return rs;
+}
+
+const workload_def workload_table[] = {
+    {"primary", "pinhole camera rays through pixel centres (or corners), spp per pixel", QUERY_CLOSEST, make_primary},
+    {"shadow", "occlusion rays from reference primary hits to every light on the lit side", QUERY_ANY, make_shadow},
+    {"reflection", "mirror bounces from reference hits, generations 1..depth (default 3)", QUERY_CLOSEST, make_reflection},
+    {"diffuse", "one cosine-distributed bounce from every reference primary hit", QUERY_CLOSEST, make_diffuse},
+    {"random", "segments between uniform random points of the scene box (W*H*spp rays)", QUERY_CLOSEST, make_random},
+    {NULL, NULL, QUERY_CLOSEST, NULL},
+};
+
+const workload_def *workload_find(const char *name)
+{
+    for (int i = 0; workload_table[i].name; i++)
+        if (strcmp(workload_table[i].name, name) == 0) return &workload_table[i];
+    return NULL;
+}

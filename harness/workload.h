@@ -1,0 +1,55 @@
+/* workload.h: the ray workloads.
+ *
+ *   primary     pinhole camera rays, W x H pixels, spp samples per pixel
+ *               (pixel centre for spp 1, stratified jitter otherwise), or
+ *               (W+1) x (H+1) rays through pixel corners (SPD's rule)
+ *   shadow      from every reference primary hit to every point light on
+ *               the lit side of the surface; any-hit queries with ray->light set
+ *   reflection  mirror bounces from reference hits, generations 1..depth
+ *               (default 3), each generation traced by the reference
+ *   diffuse     one cosine-distributed bounce from every primary hit
+ *   random      segments between uniform random points of the scene box
+ *
+ * Secondary rays are made from the REFERENCE accelerator's hits, so no
+ * accelerator's bug changes the ray set. Ray sets are deterministic for a
+ * (scene, workload, options, seed) and kept in scanline order (generation
+ * by generation for reflections). */
+#ifndef ACCELBENCH_WORKLOAD_H
+#define ACCELBENCH_WORKLOAD_H
+
+#include "../accel/accel.h"
+#include "rayset.h"
+
+typedef struct {
+    int width, height; /* image size */
+    int spp;           /* samples per pixel */
+    bool corners;      /* rays through pixel corners instead of centres */
+    int depth;         /* reflection generations */
+    uint64_t seed;
+    int threads;       /* threads for tracing the reference while deriving rays */
+} workload_opts;
+
+typedef struct {
+    const char *name;
+    const char *summary;
+    query_kind query;
+    /* ref may be NULL for workloads that need no hits (primary, random). */
+    rayset_t *(*make)(const scene_t *s, accel *ref, const workload_opts *o);
+} workload_def;
+
+extern const workload_def workload_table[];
+const workload_def *workload_find(const char *name);
+
+/* Primary rays alone (also used by the renderer). */
+rayset_t *workload_primary(const scene_t *s, const workload_opts *o);
+
+/* Move a surface point off its surface along the facing normal n by a few
+ * hundred ulps of its coordinates, so rays leaving it do not hit the
+ * surface they start on (Waechter and Binder, "A Fast and Robust Method
+ * for Avoiding Self-Intersection", Ray Tracing Gems, ch. 6). */
+vec3 offset_origin(vec3 p, vec3 n);
+
+/* The hit point and the unit geometric normal turned to face the ray. */
+void hit_frame(const scene_t *s, const ray_t *r, const hit_t *h, vec3 *p, vec3 *n);
+
+#endif

@@ -1,0 +1,65 @@
+/* ray.h: rays, hits and the work counters.
+ *
+ * A ray is the segment org + t*dir for t in [tnear, tfar]. dir need not be
+ * unit length (random segments use the segment vector), and t is measured in
+ * units of dir. A closest-hit query returns the smallest t in the range; an
+ * any-hit (occlusion) query returns whether any t in the range hits. */
+#ifndef ACCELBENCH_RAY_H
+#define ACCELBENCH_RAY_H
+
+#include <stdint.h>
+#include "vec3.h"
+
+#define RAY_NO_LIGHT UINT32_MAX
+#define HIT_NONE UINT32_MAX
+
+typedef struct {
+    vec3 org;
+    float tnear;
+    vec3 dir;
+    float tfar;
+    uint32_t light; /* shadow rays: index of the scene light the ray goes to; else RAY_NO_LIGHT */
+    uint32_t pad;   /* keeps the struct 40 bytes and the ray file layout fixed */
+} ray_t;
+_Static_assert(sizeof(ray_t) == 40, "ray_t is 40 bytes; the ray file format depends on it");
+
+/* A hit: distance, primitive id (scene order) and the primitive's own
+ * parameters (barycentrics for triangles, unused for spheres). prim ==
+ * HIT_NONE means no hit; t then holds the ray's tfar. */
+typedef struct {
+    float t, u, v;
+    uint32_t prim;
+} hit_t;
+
+static inline hit_t hit_none(const ray_t *r)
+{
+    hit_t h = {r->tfar, 0.0f, 0.0f, HIT_NONE};
+    return h;
+}
+
+/* Work counters. Each thread owns one; they are summed at the end, so
+ * nothing shared is written while tracing. prim_tests and prim_hits are
+ * bumped only inside prims/, so they mean the same for every accelerator;
+ * the others are bumped by the accelerators (see accel.h for definitions). */
+typedef struct {
+    uint64_t prim_tests;    /* ray/primitive intersection tests performed */
+    uint64_t prim_hits;     /* tests that found a hit inside the current [tnear, t] */
+    uint64_t box_tests;     /* ray/box tests: BVH nodes, voxels, slabs, ray boxes */
+    uint64_t steps;         /* traversal steps: nodes visited, voxels stepped */
+    uint64_t empty_leaves;  /* leaves or voxels visited that held no primitive */
+    uint64_t mailbox_hits;  /* primitive tests skipped because the mailbox said "done" */
+} counters_t;
+
+#define COUNTERS_N 6
+static inline uint64_t *counters_array(counters_t *c) { return &c->prim_tests; }
+static inline void counters_add(counters_t *a, const counters_t *b)
+{
+    a->prim_tests += b->prim_tests;
+    a->prim_hits += b->prim_hits;
+    a->box_tests += b->box_tests;
+    a->steps += b->steps;
+    a->empty_leaves += b->empty_leaves;
+    a->mailbox_hits += b->mailbox_hits;
+}
+
+#endif

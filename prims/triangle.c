@@ -1,0 +1,213 @@
+/* triangle.c: the ray/triangle kernels.
+ *
+ * triangle_intersect is the watertight ray/triangle test of
+ *   Sven Woop, Carsten Benthin, Ingo Wald, "Watertight Ray/Triangle
+ *   Intersection", Journal of Computer Graphics Techniques 2(1), 2013
+ *   (the headers spell the first author "Woo"; it is Woop),
+ * written from the paper's description of the algorithm (section 3: ray
+ * setup, shear, 2D edge tests with the double-precision fallback, hit
+ * distance), single precision and two-sided.
+ *
+ * Why watertight: a closed mesh has no holes, so a ray that crosses its
+ * surface through a shared edge or vertex must hit at least one of the
+ * triangles around it. Tests whose rounding depends on the triangle as a whole
+ * (e.g. Moller-Trumbore, built on the triangle's own edge vectors) round
+ * differently for the two triangles sharing an edge, so such a ray can slip between them; for
+ * this benchmark that would make accelerators disagree with each other for
+ * reasons that have nothing to do with traversal. Woop et al. instead
+ * transform all vertices into ONE ray-dependent frame (a permutation and a
+ * shear that map the ray onto the +z axis from the origin), where the
+ * ray-edge test becomes a 2D edge function of the two edge endpoints alone.
+ * The neighbour computes the same products with the endpoints swapped, so it
+ * gets exactly the negated value: no gap, whatever the rounding.
+ *
+ * triangle_intersect_double is an independent arbiter (Moller-Trumbore in
+ * double) and triangle_boundary_distance measures how close a point is to
+ * the triangle's edges; both are for verification only. */
+#include "prims_internal.h"
+
+/* The watertight argument needs edge(p, q) == -edge(q, p) bit for bit.
+ * Fusing p.x*q.y - p.y*q.x into an FMA rounds one product but not the
+ * other, and which one depends on the operand order, so the symmetry (and
+ * the watertightness) is lost on targets with FMA (aarch64, x86-64 with
+ * -march=haswell or later), where GCC contracts by default in gnu11 mode.
+ * GCC ignores "#pragma STDC FP_CONTRACT", hence its own pragma. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("fp-contract=off")
+#elif defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#endif
+
+/* ---------------------------------------------------------------------- */
+/* Watertight test, single precision (Woop et al. 2013, section 3)         */
+
+/* Per-ray constants: the axes permutation (kz = dominant direction axis)
+ * and the shear that maps the ray direction onto (0, 0, 1). */
+typedef struct {
+    int kx, ky, kz;
+    float sx, sy, sz;
+} shear_t;
+
+/* A vertex relative to the ray origin, in the sheared frame. */
+typedef struct {
+    float x, y, z;
+} sheared_t;
+
+static int dominant_axis(vec3 d)
+{
+    float ax = fabsf(d.x), ay = fabsf(d.y), az = fabsf(d.z);
+    if (ax >= ay && ax >= az) return 0;
+    return ay >= az ? 1 : 2;
+}
+
+/* Ray setup: choose kz so that the division by dir[kz] is as well
+ * conditioned as possible; swap kx and ky when dir[kz] < 0 so the
+ * permutation keeps the triangle's winding (the sign of det). Returns false
+ * for a zero or non-finite direction, which cannot hit anything. */
+static bool ray_shear(vec3 dir, shear_t *s)
+{
+    s->kz = dominant_axis(dir);
+    s->kx = (s->kz + 1) % 3;
+    s->ky = (s->kx + 1) % 3;
+    float dz = v3_get(dir, s->kz);
+    if (!(dz != 0.0f) || !v3_finite(dir)) return false;
+    if (dz < 0.0f) {
+        int tmp = s->kx;
+        s->kx = s->ky;
+        s->ky = tmp;
+    }
+    s->sx = v3_get(dir, s->kx) / dz;
+    s->sy = v3_get(dir, s->ky) / dz;
+    s->sz = 1.0f / dz;
+    return true;
+}
+
+/* Shear: translate to the ray origin and shear. Every triangle that
+ * uses a vertex gets exactly the same sheared coordinates for it. */
+static sheared_t shear_vertex(const shear_t *s, vec3 p, vec3 org)
+{
+    vec3 r = v3_sub(p, org);
+    float rz = v3_get(r, s->kz);
+    sheared_t out;
+    out.x = v3_get(r, s->kx) - s->sx * rz;
+    out.y = v3_get(r, s->ky) - s->sy * rz;
+    out.z = rz; /* scaled by sz later, only once the 2D test has passed */
+    return out;
+}
+
+/* 2D edge function: twice the signed area of (origin, p, q). Its sign says
+ * on which side of the projected edge p-q the ray (the origin) lies. */
+static float edge_function(sheared_t p, sheared_t q)
+{
+    return p.x * q.y - p.y * q.x;
+}
+
+/* The paper's fallback: when a float edge function is exactly 0 the ray may really be
+ * on the edge or the two products may merely have rounded to the same
+ * value. The products of two floats are exact in double, so redoing the
+ * subtraction there gives the exact sign (0 only if truly on the edge). */
+static float edge_function_double(sheared_t p, sheared_t q)
+{
+    return (float)((double)p.x * (double)q.y - (double)p.y * (double)q.x);
+}
+
+bool triangle_intersect(vec3 a, vec3 b, vec3 c, const ray_t *ray, float tmax, float *t, float *u, float *v)
+{
+    shear_t s;
+    if (!ray_shear(ray->dir, &s)) return false;
+
+    sheared_t A = shear_vertex(&s, a, ray->org);
+    sheared_t B = shear_vertex(&s, b, ray->org);
+    sheared_t C = shear_vertex(&s, c, ray->org);
+
+    /* Scaled barycentrics: U weights a (the edge b-c opposite it), V
+     * weights b, W weights c. */
+    float U = edge_function(C, B);
+    float V = edge_function(A, C);
+    float W = edge_function(B, A);
+    if (U == 0.0f || V == 0.0f || W == 0.0f) {
+        U = edge_function_double(C, B);
+        V = edge_function_double(A, C);
+        W = edge_function_double(B, A);
+    }
+
+    /* Two-sided: inside means all three have the same sign; zeros (the ray
+     * on an edge or vertex) count as inside so shared edges are covered. */
+    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+
+    /* det = 0: the ray is parallel to the plane or the triangle has no
+     * projected area (degenerate); also catches all three being 0. */
+    float det = U + V + W;
+    if (det == 0.0f) return false;
+
+    /* Hit distance: the barycentric interpolation of the
+     * sheared z values. Dividing here (rather than comparing T against
+     * tnear*det and tmax*det as the paper does to defer the division) makes
+     * the range test apply to exactly the t we return. A NaN fails it. */
+    float T = U * (s.sz * A.z) + V * (s.sz * B.z) + W * (s.sz * C.z);
+    float tt = T / det;
+    if (!(tt >= ray->tnear && tt < tmax)) return false;
+
+    *t = tt;
+    *u = V / det;
+    *v = W / det;
+    return true;
+}
+
+/* ---------------------------------------------------------------------- */
+/* Verification helpers, double precision                                  */
+
+static dvec3 dv3_make(double x, double y, double z)
+{
+    dvec3 r = {x, y, z};
+    return r;
+}
+
+static dvec3 dv3_madd(dvec3 a, dvec3 b, double s)
+{
+    return dv3_make(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
+}
+
+/* Moller-Trumbore in double: an algorithm independent of the float test,
+ * so a shared mistake cannot make the two agree. Edges and vertices count
+ * as inside (closed triangle), like the float test. */
+bool triangle_intersect_double(vec3 a, vec3 b, vec3 c, const ray_t *ray, double *t)
+{
+    dvec3 da = dv3(a), o = dv3(ray->org), d = dv3(ray->dir);
+    dvec3 e1 = dv3_sub(dv3(b), da), e2 = dv3_sub(dv3(c), da);
+    dvec3 p = dv3_cross(d, e2);
+    double det = dv3_dot(e1, p);
+    if (det == 0.0 || !isfinite(det)) return false;
+
+    dvec3 s = dv3_sub(o, da);
+    double u = dv3_dot(s, p) / det;
+    if (u < 0.0 || u > 1.0) return false;
+    dvec3 q = dv3_cross(s, e1);
+    double v = dv3_dot(d, q) / det;
+    if (v < 0.0 || u + v > 1.0) return false;
+
+    double tt = dv3_dot(e2, q) / det;
+    if (!(tt >= (double)ray->tnear && tt < (double)ray->tfar)) return false;
+    *t = tt;
+    return true;
+}
+
+/* Distance from p to the closed segment a-b (a point if a == b). */
+static double point_segment_distance(dvec3 p, dvec3 a, dvec3 b)
+{
+    dvec3 ab = dv3_sub(b, a), ap = dv3_sub(p, a);
+    double len2 = dv3_dot(ab, ab);
+    double s = len2 > 0.0 ? dv3_dot(ap, ab) / len2 : 0.0;
+    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+    dvec3 r = dv3_sub(p, dv3_madd(a, ab, s));
+    return sqrt(dv3_dot(r, r));
+}
+
+double triangle_boundary_distance(vec3 a, vec3 b, vec3 c, dvec3 p)
+{
+    dvec3 da = dv3(a), db = dv3(b), dc = dv3(c);
+    double dab = point_segment_distance(p, da, db);
+    double dbc = point_segment_distance(p, db, dc);
+    double dca = point_segment_distance(p, dc, da);
+    return fmin(dab, fmin(dbc, dca));
+}

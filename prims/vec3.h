@@ -1,0 +1,71 @@
+/* vec3.h: the small 3-vector and box math every part of accelbench uses.
+ *
+ * Single precision, because that is what the accelerators and Embree trace
+ * with; dvec3 (double) exists only for the verification arbiter in prims/. */
+#ifndef ACCELBENCH_VEC3_H
+#define ACCELBENCH_VEC3_H
+
+#include <math.h>
+#include <stdbool.h>
+
+typedef struct { float x, y, z; } vec3;
+typedef struct { double x, y, z; } dvec3;
+
+/* Axis-aligned box; an empty box has lo > hi (see box_empty()). */
+typedef struct { vec3 lo, hi; } box3;
+
+static inline vec3 v3(float x, float y, float z) { vec3 r = {x, y, z}; return r; }
+static inline vec3 v3_add(vec3 a, vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline vec3 v3_sub(vec3 a, vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline vec3 v3_mul(vec3 a, vec3 b) { return v3(a.x * b.x, a.y * b.y, a.z * b.z); }
+static inline vec3 v3_scale(vec3 a, float s) { return v3(a.x * s, a.y * s, a.z * s); }
+static inline vec3 v3_madd(vec3 a, vec3 b, float s) { return v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s); }
+static inline float v3_dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline vec3 v3_cross(vec3 a, vec3 b)
+{
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static inline float v3_len(vec3 a) { return sqrtf(v3_dot(a, a)); }
+static inline vec3 v3_norm(vec3 a)
+{
+    float l = v3_len(a);
+    return l > 0.0f ? v3_scale(a, 1.0f / l) : a;
+}
+static inline vec3 v3_min(vec3 a, vec3 b) { return v3(fminf(a.x, b.x), fminf(a.y, b.y), fminf(a.z, b.z)); }
+static inline vec3 v3_max(vec3 a, vec3 b) { return v3(fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z)); }
+static inline float v3_get(vec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+static inline bool v3_finite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+
+static inline dvec3 dv3(vec3 a) { dvec3 r = {a.x, a.y, a.z}; return r; }
+static inline dvec3 dv3_sub(dvec3 a, dvec3 b) { dvec3 r = {a.x - b.x, a.y - b.y, a.z - b.z}; return r; }
+static inline double dv3_dot(dvec3 a, dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline dvec3 dv3_cross(dvec3 a, dvec3 b)
+{
+    dvec3 r = {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+    return r;
+}
+
+static inline box3 box_empty(void)
+{
+    box3 b = {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+    return b;
+}
+static inline box3 box_grow(box3 b, vec3 p) { b.lo = v3_min(b.lo, p); b.hi = v3_max(b.hi, p); return b; }
+static inline box3 box_union(box3 a, box3 b) { a.lo = v3_min(a.lo, b.lo); a.hi = v3_max(a.hi, b.hi); return a; }
+static inline bool box_is_empty(box3 b) { return b.lo.x > b.hi.x || b.lo.y > b.hi.y || b.lo.z > b.hi.z; }
+static inline vec3 box_extent(box3 b) { return v3_sub(b.hi, b.lo); }
+static inline vec3 box_center(box3 b) { return v3_scale(v3_add(b.lo, b.hi), 0.5f); }
+static inline float box_diagonal(box3 b) { return v3_len(box_extent(b)); }
+static inline bool box_overlap(box3 a, box3 b)
+{
+    return a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y &&
+           a.lo.z <= b.hi.z && b.lo.z <= a.hi.z;
+}
+static inline float box_area(box3 b)
+{
+    if (box_is_empty(b)) return 0.0f;
+    vec3 e = box_extent(b);
+    return 2.0f * (e.x * e.y + e.y * e.z + e.z * e.x);
+}
+
+#endif

@@ -1,0 +1,145 @@
+/* scene.c: the scene object and the helpers every scene maker shares:
+ * materials, lights, per-primitive materials, and the finishing step that
+ * validates the primitives and supplies a camera, lights and a material
+ * when the source (a bare mesh file) has none. */
+#include "scene.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* The public struct plus the bookkeeping scene_set_material_upto() needs.
+ * scene_t is first, so a scene_t * from scene_new() is also a scene_impl *. */
+typedef struct {
+    scene_t pub;
+    uint32_t material_upto; /* prims [0, material_upto) have a material */
+} scene_impl;
+
+static void *xrealloc(void *p, size_t n)
+{
+    void *q = realloc(p, n ? n : 1);
+    if (!q) {
+        fprintf(stderr, "accelbench: out of memory (%zu bytes) building a scene\n", n);
+        abort();
+    }
+    return q;
+}
+
+scene_t *scene_new(const char *name)
+{
+    scene_impl *si = xrealloc(NULL, sizeof *si);
+    memset(si, 0, sizeof *si);
+    scene_t *s = &si->pub;
+    snprintf(s->name, sizeof s->name, "%s", name ? name : "");
+    prims_init(&s->prims);
+    s->background = v3(0.0f, 0.0f, 0.0f); /* NFF's default */
+    s->bounds = box_empty();
+    return s;
+}
+
+void scene_free(scene_t *s)
+{
+    if (!s) return;
+    prims_free(&s->prims);
+    free(s->lights);
+    free(s->materials);
+    free(s->prim_material);
+    free((scene_impl *)s);
+}
+
+uint16_t scene_add_material(scene_t *s, material_t m)
+{
+    if (s->nmaterials > UINT16_MAX) {
+        fprintf(stderr, "accelbench: scene %s has more than 65536 materials\n", s->name);
+        abort();
+    }
+    s->materials = xrealloc(s->materials, (s->nmaterials + 1) * sizeof *s->materials);
+    s->materials[s->nmaterials] = m;
+    return (uint16_t)s->nmaterials++;
+}
+
+void scene_add_light(scene_t *s, vec3 p)
+{
+    s->lights = xrealloc(s->lights, (s->nlights + 1) * sizeof *s->lights);
+    s->lights[s->nlights++] = p;
+}
+
+void scene_set_material_upto(scene_t *s, uint16_t material)
+{
+    scene_impl *si = (scene_impl *)s;
+    uint32_t n = s->prims.count;
+    if (n <= si->material_upto) return;
+    s->prim_material = xrealloc(s->prim_material, (size_t)n * sizeof *s->prim_material);
+    for (uint32_t i = si->material_upto; i < n; i++) s->prim_material[i] = material;
+    si->material_upto = n;
+}
+
+static const char *what(const scene_t *s)
+{
+    return s->source[0] ? s->source : s->name;
+}
+
+/* The default view: look at the centre of the bounding sphere from a
+ * fixed octant, far enough that the sphere fits the 45 degree field. The
+ * up axis is +y, the usual mesh convention, unless y is the thinnest
+ * extent, which suggests a z-up model; the eye is 0.6 up along it. */
+static void default_camera(scene_t *s)
+{
+    vec3 c = box_center(s->bounds), e = box_extent(s->bounds);
+    float radius = 0.5f * box_diagonal(s->bounds);
+    if (!(radius > 0.0f) || !isfinite(radius)) radius = 1.0f; /* a single point */
+    bool z_up = e.y < e.x && e.y < e.z;
+    vec3 up = z_up ? v3(0, 0, 1) : v3(0, 1, 0);
+    vec3 dir = v3_norm(z_up ? v3(1.0f, 0.8f, 0.6f) : v3(1.0f, 0.6f, 0.8f));
+    const float half_fov = 22.5f * (float)M_PI / 180.0f;
+    float dist = radius / sinf(half_fov);
+    camera_t *cam = &s->camera;
+    cam->from = v3_madd(c, dir, dist);
+    cam->at = c;
+    cam->up = up;
+    cam->fov_deg = 45.0f;
+    /* Well inside the gap between the eye and the bounding sphere (about
+     * 1.6 radii), yet large enough not to matter for float precision. */
+    cam->hither = 1e-3f * radius;
+    cam->width = cam->height = 512;
+}
+
+/* Two lights behind the camera and above it, one to each side, both 1.5
+ * eye distances from the centre: outside the bounding sphere, hence
+ * outside the bounds. */
+static void default_lights(scene_t *s)
+{
+    const camera_t *cam = &s->camera;
+    vec3 back = v3_sub(cam->from, cam->at);
+    float dist = v3_len(back);
+    if (!(dist > 0.0f) || !isfinite(dist)) dist = 1.0f;
+    back = v3_norm(back);
+    vec3 right = v3_norm(v3_cross(cam->up, back));
+    vec3 up = v3_cross(back, right);
+    vec3 d1 = v3_norm(v3_add(v3_add(back, v3_scale(up, 0.6f)), v3_scale(right, 0.5f)));
+    vec3 d2 = v3_norm(v3_add(v3_add(back, v3_scale(up, 0.9f)), v3_scale(right, -0.7f)));
+    scene_add_light(s, v3_madd(cam->at, d1, 1.5f * dist));
+    scene_add_light(s, v3_madd(cam->at, d2, 1.5f * dist));
+}
+
+int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen)
+{
+    if (s->prims.count == 0) {
+        snprintf(err, errlen, "%s: no primitives", what(s));
+        return -1;
+    }
+    char why[400];
+    if (prims_finish(&s->prims, why, sizeof why) != 0) {
+        snprintf(err, errlen, "%s: %s", what(s), why);
+        return -1;
+    }
+    s->bounds = s->prims.box;
+
+    scene_impl *si = (scene_impl *)s;
+    if (si->material_upto < s->prims.count) {
+        material_t grey = {v3(0.8f, 0.8f, 0.8f), 0.8f, 0.2f};
+        scene_set_material_upto(s, scene_add_material(s, grey));
+    }
+    if (!has_camera) default_camera(s);
+    if (s->nlights == 0) default_lights(s);
+    return 0;
+}

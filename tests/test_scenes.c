@@ -1,0 +1,328 @@
+/* test_scenes.c: scene loading and generation.
+ *
+ * The SPD sphereflake against the counts of shared/SPD-SCENES.md and
+ * coordinates derived by hand from its rules; mesh loading through assimp
+ * (a catalogue mesh, OBJ files written here, gzipped and inside a tarball);
+ * and the one-line errors for bad input, which must name the file. */
+#include "../scenes/scene.h"
+#include "check.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define TMP "/tmp/accelbench_test_scenes"
+
+static char err[1024];
+
+static void write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f) {
+        perror(path);
+        exit(2);
+    }
+    fputs(text, f);
+    fclose(f);
+}
+
+static bool vec_near(vec3 a, double x, double y, double z, double eps)
+{
+    return fabs(a.x - x) <= eps && fabs(a.y - y) <= eps && fabs(a.z - z) <= eps;
+}
+
+/* Load a name that must fail; the error must contain want. */
+static void expect_error(const char *name, const char *want)
+{
+    err[0] = '\0';
+    scene_t *s = scene_load(name, err, sizeof err);
+    CHECK_MSG(s == NULL, "%s loaded but should fail", name);
+    CHECK_MSG(strstr(err, want) != NULL, "%s: error '%s' lacks '%s'", name, err, want);
+    CHECK_MSG(strchr(err, '\n') == NULL, "error is not one line: '%s'", err);
+    scene_free(s);
+}
+
+static void test_balls_counts(void)
+{
+    static const uint32_t spheres[] = {0, 10, 91, 820, 7381, 66430};
+    for (int size = 1; size <= 5; size++) {
+        char name[32];
+        snprintf(name, sizeof name, "spd:balls:%d", size);
+        scene_t *s = scene_load(name, err, sizeof err);
+        CHECK_MSG(s != NULL, "%s: %s", name, err);
+        if (!s) continue;
+        CHECK(spd_balls_sphere_count(size) == spheres[size]);
+        CHECK(s->prims.nspheres == spheres[size]);
+        CHECK(s->prims.ntris == 2);
+        CHECK(s->prims.count == spheres[size] + 2);
+        CHECK(strcmp(s->name, name) == 0);
+        CHECK(s->source[0] != '\0');
+        scene_free(s);
+    }
+    scene_t *s = scene_load("spd:balls", err, sizeof err); /* default size 4 */
+    CHECK_MSG(s != NULL, "%s", err);
+    if (s) CHECK(s->prims.nspheres == 7381 && s->prims.count == 7383);
+    scene_free(s);
+}
+
+static void test_balls_geometry(void)
+{
+    scene_t *s = scene_load("spd:balls:1", err, sizeof err);
+    CHECK_MSG(s != NULL, "%s", err);
+    if (!s) return;
+    const prims_t *p = &s->prims;
+
+    /* The floor comes first: two triangles fanned from the SPD's first corner. */
+    CHECK(p->kind[0] == PRIM_TRIANGLE && p->kind[1] == PRIM_TRIANGLE && p->kind[2] == PRIM_SPHERE);
+    const tri_t *t0 = &p->tris[p->index[0]], *t1 = &p->tris[p->index[1]];
+    CHECK(vec_near(p->verts[t0->v[0]], 12, 12, -0.5, 0));
+    CHECK(vec_near(p->verts[t0->v[1]], -12, 12, -0.5, 0));
+    CHECK(vec_near(p->verts[t0->v[2]], -12, -12, -0.5, 0));
+    CHECK(t1->v[0] == t0->v[0] && t1->v[1] == t0->v[2]);
+    CHECK(vec_near(p->verts[t1->v[2]], 12, -12, -0.5, 0));
+    CHECK(p->ndegenerate == 0);
+
+    /* Root: centre 0, radius 0.5. */
+    sphere_t root = p->spheres[p->index[2]];
+    CHECK(vec_near(root.center, 0, 0, 0, 0));
+    CHECK_NEAR(root.radius, 0.5, 0);
+
+    /* First child of the root. The first trio vector (1,1,0)/sqrt2 turned
+     * about a = (1,-1,0)/sqrt2 by asin(2/sqrt6) (cos = 1/sqrt3): a.v = 0 and
+     * a x v = (0,0,1), so Rodrigues gives v/sqrt3 + (0,0,1)*2/sqrt6 =
+     * (1,1,2)/sqrt6. The k=0 copy is not turned, and the root's M is the
+     * identity, so the child sits at (1,1,2)/sqrt6 * (0.5 + 0.5/3)
+     * = (2,2,4)/(3 sqrt6) = (0.272166, 0.272166, 0.544331), radius 1/6. */
+    double k = 2.0 / (3.0 * sqrt(6.0));
+    sphere_t c0 = p->spheres[p->index[3]];
+    CHECK(vec_near(c0.center, k, k, 2 * k, 1e-5));
+    CHECK_NEAR(c0.radius, 1.0 / 6.0, 1e-6);
+    /* Second child: (1,0,-1)/sqrt2 turned the same way. a.v = 1/2,
+     * a x v = (1,1,1)/2, so v/sqrt3 + (1,1,1)/2*sqrt(2/3) + a/2*(1 - 1/sqrt3)
+     * = (cos 15deg, sin 15deg, 0): on the equator, at distance 2/3. */
+    double c15 = cos(M_PI / 12), s15 = sin(M_PI / 12);
+    CHECK(vec_near(p->spheres[p->index[4]].center, c15 * 2 / 3, s15 * 2 / 3, 0, 1e-5));
+    /* Third: (0,1,-1)/sqrt2, the mirror image: (sin 15, cos 15, 0). */
+    CHECK(vec_near(p->spheres[p->index[5]].center, s15 * 2 / 3, c15 * 2 / 3, 0, 1e-5));
+    /* Fourth: the first turned 120 degrees about +Z: azimuth 165 degrees,
+     * horizontal length sqrt(2)/sqrt(6) * 2/3, same height. */
+    double h = sqrt(2.0) / sqrt(6.0) * 2 / 3;
+    CHECK(vec_near(p->spheres[p->index[6]].center, h * cos(165 * M_PI / 180), h * sin(165 * M_PI / 180), 2 * k, 1e-5));
+    /* All 9 children touch the root and have radius 1/6. */
+    for (int i = 0; i < 9; i++) {
+        sphere_t c = p->spheres[p->index[3 + i]];
+        CHECK_NEAR(v3_len(c.center), 0.5 + 1.0 / 6.0, 1e-6);
+        CHECK_NEAR(c.radius, 1.0 / 6.0, 1e-7);
+    }
+
+    /* View, lights, background, materials. */
+    const camera_t *cam = &s->camera;
+    CHECK(vec_near(cam->from, 2.1, 1.3, 1.7, 1e-6) && vec_near(cam->at, 0, 0, 0, 0) && vec_near(cam->up, 0, 0, 1, 0));
+    CHECK(cam->fov_deg == 45.0f && cam->width == 512 && cam->height == 512);
+    CHECK_NEAR(cam->hither, 0.01, 1e-9);
+    CHECK(s->nlights == 3);
+    if (s->nlights == 3)
+        CHECK(vec_near(s->lights[0], 4, 3, 2, 0) && vec_near(s->lights[1], 1, -4, 4, 0) && vec_near(s->lights[2], -3, 1, 5, 0));
+    CHECK(vec_near(s->background, 0.078, 0.361, 0.753, 1e-6));
+    CHECK(s->nmaterials == 2);
+    const material_t *fm = &s->materials[s->prim_material[0]], *sm = &s->materials[s->prim_material[2]];
+    CHECK(s->prim_material[1] == s->prim_material[0]);
+    CHECK(vec_near(fm->color, 1, 0.75, 0.33, 1e-6) && fm->kd == 0.8f && fm->ks == 0.0f);
+    CHECK(vec_near(sm->color, 1, 0.9, 0.7, 1e-6) && sm->kd == 0.5f && sm->ks == 0.5f);
+    CHECK(s->prim_material[11] == s->prim_material[2]);
+    scene_free(s);
+
+    /* Depth-first order: in balls 2, id 3 is the root's first child and id 4
+     * is that child's first child. Its M turns +Z to d = (1,1,2)/sqrt6 about
+     * a = (-1,1,0)/sqrt2 by acos(2/sqrt6); a.d = 0, a x d = (1,1,-1)/sqrt3, so
+     * M d = d*(2/sqrt6) + (1,1,-1)/sqrt3 * (1/sqrt3) = (2,2,1)/3. Radius
+     * 1/18, at distance 1/6 + 1/18 = 2/9 from the child's centre. */
+    s = scene_load("spd:balls:2", err, sizeof err);
+    CHECK_MSG(s != NULL, "%s", err);
+    if (!s) return;
+    p = &s->prims;
+    sphere_t g = p->spheres[p->index[4]];
+    CHECK(vec_near(g.center, k + 2.0 / 3 * 2 / 9, k + 2.0 / 3 * 2 / 9, 2 * k + 1.0 / 3 * 2 / 9, 1e-5));
+    CHECK_NEAR(g.radius, 1.0 / 18.0, 1e-7);
+    /* After the first child's 9 children (ids 4..12), id 13 is the root's second child. */
+    CHECK_NEAR(p->spheres[p->index[13]].radius, 1.0 / 6.0, 1e-7);
+    CHECK(vec_near(p->spheres[p->index[13]].center, c15 * 2 / 3, s15 * 2 / 3, 0, 1e-5));
+    scene_free(s);
+}
+
+static void test_balls_tessellated(void)
+{
+    scene_t *s = scene_load("spd:balls:2:t3", err, sizeof err);
+    CHECK_MSG(s != NULL, "%s", err);
+    if (s) {
+        CHECK(s->prims.ntris == 91 * 108 + 2 && s->prims.count == 9830 && s->prims.nspheres == 0);
+        CHECK(s->prims.nverts == 4 + 91 * 56); /* 6*3^2 + 2 shared vertices per sphere */
+        CHECK(s->prims.ndegenerate == 0);
+    }
+    scene_free(s);
+
+    s = scene_load("spd:balls:1:t", err, sizeof err); /* default resolution 3 */
+    CHECK_MSG(s != NULL, "%s", err);
+    if (s) {
+        const prims_t *p = &s->prims;
+        CHECK(p->ntris == 10 * 108 + 2);
+        /* The root's triangles: vertices on the sphere, wound outward. */
+        int on = 0, out = 0;
+        for (uint32_t id = 2; id < 2 + 108; id++) {
+            const tri_t *t = &p->tris[p->index[id]];
+            vec3 a = p->verts[t->v[0]], b = p->verts[t->v[1]], c = p->verts[t->v[2]];
+            on += fabsf(v3_len(a) - 0.5f) < 1e-6f && fabsf(v3_len(b) - 0.5f) < 1e-6f && fabsf(v3_len(c) - 0.5f) < 1e-6f;
+            vec3 n = v3_cross(v3_sub(b, a), v3_sub(c, a));
+            out += v3_dot(n, v3_add(v3_add(a, b), c)) > 0;
+        }
+        CHECK(on == 108 && out == 108);
+        /* Cube corners are grid points: (1,1,1)/sqrt3 is a vertex. */
+        bool corner = false;
+        for (uint32_t v = 4; v < 4 + 56; v++)
+            corner |= vec_near(p->verts[v], 0.5 / sqrt(3), 0.5 / sqrt(3), 0.5 / sqrt(3), 1e-6);
+        CHECK(corner);
+    }
+    scene_free(s);
+
+    s = scene_load("spd:balls:3:t1", err, sizeof err); /* a cube per sphere */
+    CHECK_MSG(s != NULL, "%s", err);
+    if (s) CHECK(s->prims.ntris == 820 * 12 + 2 && s->prims.nverts == 4 + 820 * 8);
+    scene_free(s);
+}
+
+static void test_catalogue_bunny(void)
+{
+    scene_t *s = scene_load("bunny", err, sizeof err);
+    CHECK_MSG(s != NULL, "bunny: %s", err);
+    if (!s) return;
+    CHECK(s->prims.ntris == 75408 && s->prims.count == 75408 && s->prims.nspheres == 0);
+    CHECK(s->prims.nverts == 37706);
+    CHECK(v3_finite(s->bounds.lo) && v3_finite(s->bounds.hi) && !box_is_empty(s->bounds));
+    CHECK(strcmp(s->name, "bunny") == 0 && strstr(s->source, "bunny00.off") != NULL);
+    /* Defaults: camera and lights outside the bounds, one grey material. */
+    box3 b = s->bounds;
+    vec3 f = s->camera.from;
+    CHECK(!(f.x >= b.lo.x && f.x <= b.hi.x && f.y >= b.lo.y && f.y <= b.hi.y && f.z >= b.lo.z && f.z <= b.hi.z));
+    CHECK(vec_near(s->camera.at, box_center(b).x, box_center(b).y, box_center(b).z, 1e-6));
+    CHECK(s->camera.hither > 0 && s->camera.hither < 0.01f * box_diagonal(b));
+    CHECK(s->camera.width == 512 && s->camera.fov_deg == 45.0f);
+    CHECK(s->nlights == 2);
+    for (uint32_t i = 0; i < s->nlights; i++) {
+        vec3 l = s->lights[i];
+        CHECK(v3_len(v3_sub(l, box_center(b))) > 0.5f * box_diagonal(b));
+    }
+    CHECK(s->nmaterials == 1 && s->materials[0].kd == 0.8f && s->materials[0].ks == 0.2f);
+    CHECK(s->prim_material[0] == 0 && s->prim_material[75407] == 0);
+    scene_free(s);
+
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    scene_catalogue_print(m);
+    fclose(m);
+    CHECK(strstr(buf, "spd:balls") && strstr(buf, "\nbunny ") && strstr(buf, "libcgal-demo") && strstr(buf, "glmark2-data"));
+    free(buf);
+}
+
+/* A quad, a triangle, a degenerate triangle and a line. */
+static const char *small_obj =
+    "# test mesh\n"
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
+    "f 1 2 3 4\n"
+    "f 1 2 5\n"
+    "f 1 1 1\n"
+    "l 1 5\n";
+
+static void check_small_obj(const char *name)
+{
+    scene_t *s = scene_load(name, err, sizeof err);
+    CHECK_MSG(s != NULL, "%s: %s", name, err);
+    if (!s) return;
+    CHECK_MSG(s->prims.ntris == 4 && s->prims.count == 4, "%s: %u triangles", name, s->prims.ntris);
+    CHECK(s->prims.ndegenerate == 1);
+    CHECK(vec_near(s->bounds.lo, 0, 0, 0, 0) && vec_near(s->bounds.hi, 1, 1, 1, 0));
+    CHECK_MSG(strstr(s->source, "1 point/line faces skipped") != NULL, "source '%s'", s->source);
+    CHECK(strcmp(s->name, name) == 0);
+    scene_free(s);
+}
+
+static void test_files(void)
+{
+    write_file(TMP "/small.obj", small_obj);
+    check_small_obj(TMP "/small.obj");
+    check_small_obj("file:" TMP "/small.obj");
+    CHECK(system("gzip -c " TMP "/small.obj > " TMP "/small.obj.gz") == 0);
+    check_small_obj(TMP "/small.obj.gz");
+    CHECK(system("mkdir -p " TMP "/t/sub && cp " TMP "/small.obj " TMP "/small.obj.gz " TMP "/t/sub/ && "
+                 "tar -C " TMP "/t -czf " TMP "/meshes.tar.gz sub") == 0);
+    check_small_obj(TMP "/meshes.tar.gz#sub/small.obj");
+    check_small_obj(TMP "/meshes.tar.gz#sub/small.obj.gz");
+    expect_error(TMP "/meshes.tar.gz#sub/nothere.obj", "no member sub/nothere.obj in " TMP "/meshes.tar.gz");
+}
+
+static void test_errors(void)
+{
+    expect_error(TMP "/missing.obj", TMP "/missing.obj: No such file or directory");
+    expect_error("/nonexistent/data.tar.gz#a.off", "/nonexistent/data.tar.gz: No such file or directory");
+    expect_error("nosuchscene", "unknown scene 'nosuchscene' (see: accelbench list scenes)");
+    expect_error("spd:gears", "unknown scene 'spd:gears'");
+    expect_error("spd:balls:99", "spd:balls:99: size must be 1..7");
+    expect_error("spd:balls:0", "size must be 1..7");
+    expect_error("spd:balls:x", "size must be 1..7");
+    expect_error("spd:balls:2:t99", "resolution must be 1..64");
+    expect_error("spd:balls:2:q", "spd:balls:2:q");
+
+    /* Garbage: bytes that are no mesh. As OBJ assimp reads nothing. */
+    char junk[4096];
+    for (size_t i = 0; i < sizeof junk - 1; i++) junk[i] = (char)(1 + (i * 7919 + 13) % 251);
+    junk[sizeof junk - 1] = '\0';
+    write_file(TMP "/garbage.obj", junk);
+    expect_error(TMP "/garbage.obj", TMP "/garbage.obj");
+    write_file(TMP "/garbage.off", junk);
+    expect_error(TMP "/garbage.off", TMP "/garbage.off: assimp:");
+    write_file(TMP "/words.obj", "hello world\nthis is not a mesh\n");
+    expect_error(TMP "/words.obj", TMP "/words.obj: no primitives");
+    write_file(TMP "/empty.obj", "");
+    expect_error(TMP "/empty.obj", TMP "/empty.obj: empty file");
+
+    /* Truncated OFF, cut in the vertices and in the faces (assimp 5.2 would
+     * assert in Triangulate on these if the loader did not check first). */
+    /* Truncated OFF, cut in the vertices, between faces and inside a face.
+     * assimp 5.2 would assert in Triangulate on the first two, and read the
+     * missing index of the third as 0, so the loader checks OFF itself. */
+    write_file(TMP "/trunc1.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n");
+    expect_error(TMP "/trunc1.off", TMP "/trunc1.off: ends after 2 of 4 vertices");
+    write_file(TMP "/trunc2.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n");
+    expect_error(TMP "/trunc2.off", TMP "/trunc2.off: ends after 1 of 2 faces");
+    write_file(TMP "/trunc3.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2");
+    expect_error(TMP "/trunc3.off", TMP "/trunc3.off: line 8: face 1 needs 3 vertex indices");
+    write_file(TMP "/trunc4.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1\n");
+    expect_error(TMP "/trunc4.off", TMP "/trunc4.off: line 5: vertex 2 needs 3 coordinates");
+    /* assimp would clamp the index to the last vertex and carry on. */
+    write_file(TMP "/badindex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+    expect_error(TMP "/badindex.off", TMP "/badindex.off: line 6: face 0 uses vertex 7 of 3");
+    /* assimp's OBJ reader logs and drops an empty face: the log fails the load. */
+    write_file(TMP "/emptyface.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf\n");
+    expect_error(TMP "/emptyface.obj", TMP "/emptyface.obj: assimp: Obj: Ignoring empty face");
+    /* Comments, blank lines and the counts on the header line are fine. */
+    write_file(TMP "/good.off", "OFF 4 2 0\n# corners\n\n0 0 0\n1 0 0\n1 1 0\n0 1 0 # last\n3 0 1 2\n3 0 2 3\n");
+    scene_t *s = scene_load(TMP "/good.off", err, sizeof err);
+    CHECK_MSG(s && s->prims.ntris == 2 && s->prims.nverts == 4, "good.off: %s", err);
+    scene_free(s);
+
+    write_file(TMP "/nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    expect_error(TMP "/nan.obj", TMP "/nan.obj: vertex 1 of mesh 0 has a NaN");
+    write_file(TMP "/badindex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    expect_error(TMP "/badindex.obj", TMP "/badindex.obj: assimp:");
+}
+
+int main(void)
+{
+    if (system("rm -rf " TMP " && mkdir -p " TMP) != 0) return 2;
+    test_balls_counts();
+    test_balls_geometry();
+    test_balls_tessellated();
+    test_catalogue_bunny();
+    test_files();
+    test_errors();
+    return check_report();
+}
