@@ -19,13 +19,15 @@
  * Memory: the bytes Embree's device reports allocating (memory monitor
  * callback), which include its own copies of the vertex and index buffers,
  * plus our id maps.
- * Counters: Embree's work is not observable (ACCEL_OPAQUE). */
+ * Counters: Embree's work is not observable (ACCEL_OPAQUE).
+ * Context: one RTCIntersectContext per thread, initialised once. */
 #include <embree3/rtcore.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "accel.h"
+#include "embree.h"
 
 static const accel_param embree_params[] = {
     {"quality", "medium", "BVH build quality: low|medium|high"},
@@ -38,6 +40,7 @@ typedef struct {
     RTCDevice device;
     RTCScene scene;
     uint32_t *prim_of[2]; /* [geometry][embree primID] -> scene primitive id */
+    bool ids_identity;    /* one kind of primitive only: primID is the scene id, skip the map */
     size_t id_bytes;
     _Atomic long long device_bytes; /* running total from the memory monitor */
     char error[256];      /* last device error, for build failures */
@@ -150,7 +153,11 @@ static accel *embree_build(const scene_t *scene, const accel_params *params, cha
         return NULL;
     }
     e->id_bytes = ((size_t)p->ntris + p->nspheres) * sizeof(uint32_t);
-    for (uint32_t id = 0; id < p->count; id++) e->prim_of[p->kind[id] == PRIM_SPHERE][p->index[id]] = id;
+    e->ids_identity = true;
+    for (uint32_t id = 0; id < p->count; id++) {
+        e->prim_of[p->kind[id] == PRIM_SPHERE][p->index[id]] = id;
+        if (p->index[id] != id) e->ids_identity = false;
+    }
 
     if ((p->ntris && add_triangles(e, p)) || (p->nspheres && add_spheres(e, p))) {
         snprintf(err, errlen, "embree geometry: %s", e->error[0] ? e->error : "buffer allocation failed");
@@ -182,34 +189,46 @@ static inline void to_rtc(const ray_t *r, struct RTCRay *out)
     out->flags = 0;
 }
 
+/* The per-thread context is Embree's intersect context, set up once per
+ * thread instead of once per ray (it is on the hot path of every query). */
+struct accel_ctx {
+    struct RTCIntersectContext ic;
+};
+
+static accel_ctx *embree_context_new(accel *a)
+{
+    (void)a;
+    accel_ctx *ctx = malloc(sizeof *ctx);
+    if (!ctx) abort();
+    rtcInitIntersectContext(&ctx->ic);
+    return ctx;
+}
+
+static void embree_context_free(accel_ctx *ctx) { free(ctx); }
+
 static bool embree_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
 {
-    (void)ctx, (void)c;
+    (void)c;
     embree_accel *e = (embree_accel *)a;
-    struct RTCIntersectContext ic;
-    rtcInitIntersectContext(&ic);
     struct RTCRayHit rh;
     to_rtc(ray, &rh.ray);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(e->scene, &ic, &rh);
+    rtcIntersect1(e->scene, &ctx->ic, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit->t = rh.ray.tfar;
     hit->u = rh.hit.u;
     hit->v = rh.hit.v;
-    hit->prim = e->prim_of[rh.hit.geomID][rh.hit.primID];
+    hit->prim = e->ids_identity ? rh.hit.primID : e->prim_of[rh.hit.geomID][rh.hit.primID];
     return true;
 }
 
 static bool embree_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
 {
-    (void)ctx, (void)c;
+    (void)c;
     embree_accel *e = (embree_accel *)a;
-    struct RTCIntersectContext ic;
-    rtcInitIntersectContext(&ic);
     struct RTCRay r;
     to_rtc(ray, &r);
-    rtcOccluded1(e->scene, &ic, &r);
+    rtcOccluded1(e->scene, &ctx->ic, &r);
     return r.tfar < 0.0f; /* Embree sets tfar to -inf on a hit */
 }
 
@@ -228,8 +247,12 @@ const struct accel_ops accel_embree = {
     .params = embree_params,
     .flags = ACCEL_OPAQUE,
     .build = embree_build,
+    .context_new = embree_context_new,
+    .context_free = embree_context_free,
     .intersect = embree_intersect,
     .occluded = embree_occluded,
     .memory = embree_memory,
     .destroy = embree_destroy,
 };
+
+RTCScene embree_scene_of(accel *a) { return ((embree_accel *)a)->scene; }

@@ -353,9 +353,7 @@ int matrix_verify(options *o)
                 trace_rayset(a, in.rs, (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads, got);
                 verify_result vr;
                 verify_answers(s, in.rs, got, in.ref, &vr);
-                char label[96];
-                snprintf(label, sizeof label, "%s%s%s%s", ac->ops->name, ac->params_str[0] ? "[" : "", ac->params_str,
-                         ac->params_str[0] ? "]" : "");
+                const char *label = ac->label;
                 printf("%-22s %-11s %-24s %9u %9llu %6llu %6llu %8llu %6llu\n", s->name, in.rs->workload, label,
                        in.rs->count, (unsigned long long)vr.agree, (unsigned long long)vr.mismatches[MM_EDGE],
                        (unsigned long long)vr.mismatches[MM_TOL], (unsigned long long)vr.mismatches[MM_REFWRONG],

@@ -45,7 +45,7 @@ void options_usage(FILE *out, const char *cmd)
             "usage: accelbench %s --scenes LIST --accels LIST --workloads LIST [options]\n"
             "  LIST is comma-separated; see `accelbench list` for the names.\n"
             "  --scenes LIST           scene names: spd:balls:3, spd:balls:2:t, bunny, a mesh path ...\n"
-            "  --accels LIST           accelerators (default: exhaustive,embree)\n"
+            "  --accels LIST           accelerators (default: all; verify: all but embree)\n"
             "  --workloads LIST        primary,shadow,reflection,diffuse,random (default: all)\n"
             "  --param ACCEL.KEY=VALUE set an accelerator parameter (repeatable)\n"
             "  --res WxH               primary image size (default 128x128)\n"
@@ -139,7 +139,15 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     o->plots = true;
     o->wl = (workload_opts){.width = 128, .height = 128, .spp = 1, .depth = 3, .seed = 1};
     o->argv_line = join_args(argc, argv);
-    const char *accels_arg = "exhaustive,embree", *workloads_arg = NULL;
+    /* Default accelerators: all of them; verify leaves out the reference itself. */
+    static char all_accels[1024];
+    all_accels[0] = 0;
+    for (int i = 0; accel_registry[i]; i++) {
+        if (!strcmp(cmd, "verify") && !strcmp(accel_registry[i]->name, "embree")) continue;
+        if (all_accels[0]) strcat(all_accels, ",");
+        strcat(all_accels, accel_registry[i]->name);
+    }
+    const char *accels_arg = all_accels, *workloads_arg = NULL;
     const char *params[OPT_LIST_MAX];
     int nparams = 0;
     bool res_given = false;
@@ -247,7 +255,17 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             return 2;
         }
     }
-    for (int i = 0; i < o->naccels; i++) params_format(&o->accels[i].params, o->accels[i].params_str, sizeof o->accels[i].params_str);
+    for (int i = 0; i < o->naccels; i++) {
+        accel_config *ac = &o->accels[i];
+        accel_params defaults;
+        char dflt[sizeof ac->params_str];
+        params_defaults(&defaults, ac->ops->params);
+        params_format(&defaults, dflt, sizeof dflt);
+        params_format(&ac->params, ac->params_str, sizeof ac->params_str);
+        /* Short label for tables: the name, plus the parameters when they differ from the defaults. */
+        snprintf(ac->label, sizeof ac->label, "%s%s%s%s", ac->ops->name, strcmp(dflt, ac->params_str) ? "[" : "",
+                 strcmp(dflt, ac->params_str) ? ac->params_str : "", strcmp(dflt, ac->params_str) ? "]" : "");
+    }
 
     /* Workloads. */
     if (!workloads_arg) {

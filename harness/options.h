@@ -12,7 +12,8 @@
 typedef struct {
     const struct accel_ops *ops;
     accel_params params;
-    char params_str[512];
+    char params_str[512]; /* every parameter, "k=v,k=v" in table order (the CSV's params) */
+    char label[600];      /* name, with [params] when they differ from the defaults */
 } accel_config;
 
 typedef struct {

@@ -58,16 +58,23 @@ typedef struct {
     counters_t counters;
 } worker_t;
 
-static void trace_one(const job_t *j, accel_ctx *ctx, uint32_t i, counters_t *c)
+/* Trace rays [begin, end): the query test and the method lookup are
+ * hoisted out of the loop, which is the hot path of every measurement. */
+static void trace_range(const job_t *j, accel_ctx *ctx, uint32_t begin, uint32_t end, counters_t *c)
 {
     accel *a = j->a;
-    const ray_t *r = &j->rs->rays[i];
+    const ray_t *rays = j->rs->rays;
     if (j->rs->query == QUERY_CLOSEST) {
-        hit_t h = hit_none(r);
-        a->ops->intersect(a, ctx, r, &h, c);
-        j->out->hits[i] = h;
+        bool (*intersect)(accel *, accel_ctx *, const ray_t *, hit_t *, counters_t *) = a->ops->intersect;
+        hit_t *hits = j->out->hits;
+        for (uint32_t i = begin; i < end; i++) {
+            hits[i] = hit_none(&rays[i]);
+            intersect(a, ctx, &rays[i], &hits[i], c);
+        }
     } else {
-        j->out->occluded[i] = a->ops->occluded(a, ctx, r, c);
+        bool (*occluded)(accel *, accel_ctx *, const ray_t *, counters_t *) = a->ops->occluded;
+        uint8_t *occ = j->out->occluded;
+        for (uint32_t i = begin; i < end; i++) occ[i] = occluded(a, ctx, &rays[i], c);
     }
 }
 
@@ -82,14 +89,15 @@ static void *worker_main(void *arg)
         if (begin >= n) break;
         uint32_t end = begin + CHUNK < n ? begin + CHUNK : n;
         if (j->out->per_ray) {
+            /* Heat maps: one ray at a time, so each ray's counters are its own. */
             for (uint32_t i = begin; i < end; i++) {
                 counters_t c = {0};
-                trace_one(j, w->ctx, i, &c);
+                trace_range(j, w->ctx, i, i + 1, &c);
                 j->out->per_ray[i] = c;
                 counters_add(&w->counters, &c);
             }
         } else {
-            for (uint32_t i = begin; i < end; i++) trace_one(j, w->ctx, i, &w->counters);
+            trace_range(j, w->ctx, begin, end, &w->counters);
         }
     }
     return NULL;

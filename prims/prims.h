@@ -14,7 +14,7 @@
  * - A test accepts a hit at distance t when ray->tnear <= t < hit->t, where
  *   the caller starts hit->t at ray->tfar (hit_none()). On a hit it writes
  *   t, u, v and prim into *hit and returns true; otherwise *hit is untouched.
- * - Triangles use the watertight test of Woo, Benthin and Wald (JCGT 2013):
+ * - Triangles use the watertight test of Woop, Benthin and Wald (JCGT 2013):
  *   a ray through a shared edge or vertex of a closed mesh hits at least one
  *   of the triangles. Degenerate (zero-area) triangles are kept, so ids stay
  *   stable, but never hit.

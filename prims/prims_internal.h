@@ -6,7 +6,7 @@
 
 #include "prims.h"
 
-/* Watertight ray/triangle test (Woo, Benthin, Wald, JCGT 2(1) 2013), single
+/* Watertight ray/triangle test (Woop, Benthin, Wald, JCGT 2(1) 2013), single
  * precision. Accepts tnear <= t < tmax; writes t and barycentrics (u for b,
  * v for c) on a hit. */
 bool triangle_intersect(vec3 a, vec3 b, vec3 c, const ray_t *ray, float tmax, float *t, float *u, float *v);

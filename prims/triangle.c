@@ -30,8 +30,9 @@
  * Fusing p.x*q.y - p.y*q.x into an FMA rounds one product but not the
  * other, and which one depends on the operand order, so the symmetry (and
  * the watertightness) is lost on targets with FMA (aarch64, x86-64 with
- * -march=haswell or later), where GCC contracts by default in gnu11 mode.
- * GCC ignores "#pragma STDC FP_CONTRACT", hence its own pragma. */
+ * -march=haswell or later), where GCC contracts by default in gnu11 mode:
+ * tests/test_prims.c then finds rays slipping through shared edges. GCC
+ * ignores "#pragma STDC FP_CONTRACT", hence its own pragma. */
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC optimize("fp-contract=off")
 #elif defined(__clang__)
@@ -102,10 +103,12 @@ static float edge_function(sheared_t p, sheared_t q)
     return p.x * q.y - p.y * q.x;
 }
 
-/* The paper's fallback: when a float edge function is exactly 0 the ray may really be
- * on the edge or the two products may merely have rounded to the same
- * value. The products of two floats are exact in double, so redoing the
- * subtraction there gives the exact sign (0 only if truly on the edge). */
+/* The paper's fallback: when a float edge function is exactly 0 the ray
+ * may really be on the edge, or the two products may merely have rounded
+ * to the same value. The product of two floats is exact in double, so one
+ * subtraction there gives the exact sign: 0 only when the ray is truly on
+ * the edge (barring float underflow of the result). Computed for all three
+ * edges, so the neighbour across the edge sees the same exact value. */
 static float edge_function_double(sheared_t p, sheared_t q)
 {
     return (float)((double)p.x * (double)q.y - (double)p.y * (double)q.x);
@@ -140,10 +143,10 @@ bool triangle_intersect(vec3 a, vec3 b, vec3 c, const ray_t *ray, float tmax, fl
     float det = U + V + W;
     if (det == 0.0f) return false;
 
-    /* Hit distance: the barycentric interpolation of the
-     * sheared z values. Dividing here (rather than comparing T against
-     * tnear*det and tmax*det as the paper does to defer the division) makes
-     * the range test apply to exactly the t we return. A NaN fails it. */
+    /* Hit distance: the barycentric interpolation of the scaled, sheared z
+     * values. Dividing here (rather than comparing T against tnear*det and
+     * tmax*det, as the paper does to defer the division) makes the range
+     * test apply to exactly the t we return. A NaN fails it. */
     float T = U * (s.sz * A.z) + V * (s.sz * B.z) + W * (s.sz * C.z);
     float tt = T / det;
     if (!(tt >= ray->tnear && tt < tmax)) return false;

@@ -2,38 +2,46 @@
  * as a triangle scene.
  *
  * The file is read whole through compressed.c (so .gz and ARCHIVE#MEMBER
- * work) and handed to assimp from memory, with the inner file's extension
- * as the format hint. Post-processing is limited to what makes triangles
- * without changing the geometry: Triangulate, JoinIdenticalVertices (shared
- * vertices) and PreTransformVertices (node transforms applied, one flat
- * list of meshes). Nothing that drops degenerate triangles or reorders
- * faces: degenerate triangles are kept so primitive ids match the file.
+ * work) and handed to assimp from memory under its inner name, whose
+ * extension tells assimp the format; files it references (.bin, .mtl) are
+ * read from beside it (see mem_fs below). Post-processing is limited to
+ * what makes triangles without changing the geometry: RemoveComponent (all
+ * vertex attributes but positions, so that) JoinIdenticalVertices shares
+ * vertices by exact position, Triangulate, and PreTransformVertices (node
+ * transforms applied, one flat list of meshes). Nothing that drops
+ * degenerate triangles or reorders faces: degenerate triangles are kept so
+ * primitive ids follow the file.
  *
  * Two things about assimp (Debian's 5.2.5) shape the code:
  * - It is built with its internal assertions on, and a malformed file can
  *   trip one and abort the process: a truncated OFF leaves faces with no
- *   indices, which Triangulate asserts on. So the file is imported with no
- *   post-processing, checked here, and only then post-processed
- *   (aiApplyPostProcessing). An empty buffer asserts too, so it is caught
- *   first.
+ *   indices, which Triangulate asserts on, and PreTransformVertices
+ *   crashes on a mesh with no faces (a PLY point cloud). So the file is
+ *   imported with no post-processing, checked (check_raw()), and only then
+ *   post-processed (aiApplyPostProcessing). An empty file asserts too:
+ *   caught first.
  * - Several readers do not fail on bad data but log an error and carry on
- *   with altered data (the OFF reader clamps an out-of-range vertex index
- *   to the last vertex and drops faces of more than 9 vertices; the OBJ
- *   reader drops empty faces). The log is captured during the import and
- *   any error-level message fails the load, so a scene is never silently
- *   different from its file. Capturing uses assimp's global logger, so
- *   loading is not thread-safe (scenes are loaded by one thread).
+ *   with altered data: the OFF reader clamps an out-of-range vertex index
+ *   to the last vertex, drops faces of more than 9 vertices and reads
+ *   missing numbers as 0; the OBJ reader drops empty faces. The log is
+ *   captured during the import and an error-level message fails the load
+ *   (except the harmless ones, see on_log()), so a scene is never silently
+ *   different from its file. Plain OFF files are also checked beforehand
+ *   (off_check()), which catches a file cut mid-line and names the line.
+ *   The capture uses assimp's global logger, so loading is not
+ *   thread-safe (scenes are loaded by one thread).
  *
  * Points and lines are skipped and counted in the scene's source string;
  * the default camera, lights and material come from scene_finish(). */
 #include "scene.h"
 #include "compressed.h"
 
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <limits.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,11 +50,18 @@ typedef struct {
     char first_error[256]; /* the first error-level log message, "" if none */
 } log_capture;
 
-/* assimp formats messages as "Error, T0: text\n" (or "Warn, ..."). */
+/* assimp formats messages as "Error, T0: text\n" (or "Warn, ..."). Some
+ * errors are harmless here and do not count: those about materials and
+ * textures (an OBJ's missing .mtl file; materials are not read), and the
+ * OBJ reader's complaint about a "usemtl" before any object, after which it
+ * reads the geometry all the same. */
 static void on_log(const char *message, char *user)
 {
     log_capture *cap = (log_capture *)(void *)user;
     if (cap->first_error[0] || strncmp(message, "Error", 5) != 0) return;
+    if (strcasestr(message, "material") || strcasestr(message, "texture") ||
+        strstr(message, "No object detected to attach a new mesh instance"))
+        return;
     const char *text = strstr(message, ": ");
     text = text ? text + 2 : message;
     snprintf(cap->first_error, sizeof cap->first_error, "%s", text);
@@ -60,10 +75,19 @@ static void on_log(const char *message, char *user)
  * (for OFF, the file's own vertex number). */
 static int check_raw(const struct aiScene *as, const char *path, char *err, size_t errlen)
 {
+    if (as->mNumMeshes && !as->mRootNode) {
+        snprintf(err, errlen, "%s: assimp gave meshes but no scene graph", path);
+        return -1;
+    }
     for (unsigned m = 0; m < as->mNumMeshes; m++) {
         const struct aiMesh *mesh = as->mMeshes[m];
         if (mesh->mNumVertices && !mesh->mVertices) {
             snprintf(err, errlen, "%s: mesh %u has no vertex positions", path, m);
+            return -1;
+        }
+        /* PreTransformVertices crashes on a mesh without faces. */
+        if (mesh->mNumFaces == 0 || !mesh->mFaces) {
+            snprintf(err, errlen, "%s: mesh %u has %u vertices but no faces (a point cloud?)", path, m, mesh->mNumVertices);
             return -1;
         }
         for (unsigned f = 0; f < mesh->mNumFaces; f++) {
@@ -202,6 +226,127 @@ static int off_check(const char *data, size_t size, const char *path, char *err,
     return 0;
 }
 
+/* --- assimp's file system: everything from memory ---
+ * assimp reads the main file, and any file it references (a glTF's .bin
+ * buffers, an OBJ's .mtl), through these callbacks. The main file is the
+ * buffer already read; a referenced file is looked up beside it in the same
+ * container, through compressed_read(): "dir/" for dir/x.gltf(.gz),
+ * "ARCHIVE#sub/" for ARCHIVE#sub/x.gltf. (aiImportFileFromMemory would give
+ * the main file from memory too, but looks for referenced files in the
+ * current directory.) */
+
+typedef struct {
+    const file_data_t *main;
+    const char *main_name; /* the name assimp is given for the main file */
+    char prefix[4096];     /* what a referenced file's name is appended to */
+} mem_fs;
+
+typedef struct {
+    const char *data;
+    size_t size, pos;
+    file_data_t owned; /* a referenced file's data, freed on close */
+} mem_file;
+
+static size_t mf_read(struct aiFile *f, char *buf, size_t size, size_t count)
+{
+    mem_file *m = (mem_file *)(void *)f->UserData;
+    if (size == 0) return 0;
+    size_t n = (m->size - m->pos) / size;
+    if (n > count) n = count;
+    memcpy(buf, m->data + m->pos, n * size);
+    m->pos += n * size;
+    return n;
+}
+
+static size_t mf_write(struct aiFile *f, const char *buf, size_t size, size_t count)
+{
+    (void)f, (void)buf, (void)size, (void)count;
+    return 0;
+}
+
+static size_t mf_tell(struct aiFile *f) { return ((mem_file *)(void *)f->UserData)->pos; }
+static size_t mf_size(struct aiFile *f) { return ((mem_file *)(void *)f->UserData)->size; }
+static void mf_flush(struct aiFile *f) { (void)f; }
+
+static enum aiReturn mf_seek(struct aiFile *f, size_t offset, enum aiOrigin origin)
+{
+    mem_file *m = (mem_file *)(void *)f->UserData;
+    if (origin == aiOrigin_SET) {
+        if (offset > m->size) return aiReturn_FAILURE;
+        m->pos = offset;
+        return aiReturn_SUCCESS;
+    }
+    /* relative seeks may go back: the offset is a negative number cast to size_t, as with fseek */
+    size_t base = origin == aiOrigin_CUR ? m->pos : m->size;
+    ptrdiff_t delta = (ptrdiff_t)offset;
+    if ((delta < 0 && (size_t)-delta > base) || (delta > 0 && (size_t)delta > m->size - base)) return aiReturn_FAILURE;
+    m->pos = (size_t)((ptrdiff_t)base + delta);
+    return aiReturn_SUCCESS;
+}
+
+static struct aiFile *fs_open(struct aiFileIO *io, const char *name, const char *mode)
+{
+    const mem_fs *fs = (const mem_fs *)(void *)io->UserData;
+    if (strpbrk(mode, "wa+")) return NULL;
+    struct aiFile *f = calloc(1, sizeof *f);
+    mem_file *m = calloc(1, sizeof *m);
+    if (!f || !m) {
+        free(f);
+        free(m);
+        return NULL;
+    }
+    if (strcmp(name, fs->main_name) == 0) {
+        m->data = fs->main->data;
+        m->size = fs->main->size;
+    } else {
+        char path[8192], why[64];
+        if (name[0] == '/')
+            snprintf(path, sizeof path, "%s", name);
+        else
+            snprintf(path, sizeof path, "%s%s", fs->prefix, name[0] == '.' && name[1] == '/' ? name + 2 : name);
+        if (compressed_read(path, &m->owned, why, sizeof why) != 0) {
+            free(f);
+            free(m);
+            return NULL; /* assimp reports the file it could not open */
+        }
+        m->data = m->owned.data;
+        m->size = m->owned.size;
+    }
+    f->ReadProc = mf_read;
+    f->WriteProc = mf_write;
+    f->TellProc = mf_tell;
+    f->FileSizeProc = mf_size;
+    f->SeekProc = mf_seek;
+    f->FlushProc = mf_flush;
+    f->UserData = (aiUserData)(void *)m;
+    return f;
+}
+
+static void fs_close(struct aiFileIO *io, struct aiFile *f)
+{
+    (void)io;
+    if (!f) return;
+    mem_file *m = (mem_file *)(void *)f->UserData;
+    compressed_free(&m->owned);
+    free(m);
+    free(f);
+}
+
+/* The container prefix of path (see above): up to its last '/', or to the
+ * '#' that starts an archive member with no directory. */
+static void container_prefix(const char *path, char *prefix, size_t len)
+{
+    char disk[4096];
+    compressed_disk_file(path, disk, sizeof disk);
+    size_t n = 0, dl = strlen(disk);
+    if (strlen(path) > dl && path[dl] == '#') n = dl + 1; /* an archive member */
+    const char *slash = strrchr(path + n, '/');
+    if (slash) n = (size_t)(slash - path) + 1;
+    if (n >= len) n = len - 1;
+    memcpy(prefix, path, n);
+    prefix[n] = '\0';
+}
+
 /* Import with assimp: NULL with the reason in err on failure. */
 static const struct aiScene *import(const file_data_t *f, const char *path, char *err, size_t errlen)
 {
@@ -209,14 +354,13 @@ static const struct aiScene *import(const file_data_t *f, const char *path, char
         snprintf(err, errlen, "%s: empty file", path);
         return NULL;
     }
-    if (f->size > UINT_MAX) {
-        snprintf(err, errlen, "%s: %zu bytes is too large for assimp's memory reader", path, f->size);
-        return NULL;
-    }
     char ext[16];
     compressed_extension(f->name, ext, sizeof ext);
     if (strcmp(ext, "off") == 0 && off_check(f->data, f->size, path, err, errlen) != 0) return NULL;
 
+    mem_fs fs = {f, f->name[0] ? f->name : "mesh", {0}};
+    container_prefix(path, fs.prefix, sizeof fs.prefix);
+    struct aiFileIO io = {fs_open, fs_close, (aiUserData)(void *)&fs};
     /* The properties stay with the import and apply to the post-processing
      * below: drop every vertex attribute but the position, so vertices are
      * joined by position alone (STL repeats each vertex with its facet's
@@ -229,7 +373,7 @@ static const struct aiScene *import(const file_data_t *f, const char *path, char
     log_capture cap = {{0}};
     struct aiLogStream stream = {on_log, (char *)(void *)&cap};
     aiAttachLogStream(&stream);
-    const struct aiScene *as = aiImportFileFromMemoryWithProperties(f->data, (unsigned)f->size, 0, ext, props);
+    const struct aiScene *as = aiImportFileExWithProperties(fs.main_name, 0, &io, props);
     aiDetachLogStream(&stream);
     aiReleasePropertyStore(props);
 

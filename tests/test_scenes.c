@@ -2,7 +2,8 @@
  *
  * The SPD sphereflake against the counts of shared/SPD-SCENES.md and
  * coordinates derived by hand from its rules; mesh loading through assimp
- * (a catalogue mesh, OBJ files written here, gzipped and inside a tarball);
+ * (a catalogue mesh, OBJ and glTF files written here, gzipped and inside
+ * a tarball);
  * and the one-line errors for bad input, which must name the file. */
 #include "../scenes/scene.h"
 #include "check.h"
@@ -257,6 +258,47 @@ static void test_files(void)
     check_small_obj(TMP "/meshes.tar.gz#sub/small.obj");
     check_small_obj(TMP "/meshes.tar.gz#sub/small.obj.gz");
     expect_error(TMP "/meshes.tar.gz#sub/nothere.obj", "no member sub/nothere.obj in " TMP "/meshes.tar.gz");
+
+    /* An OBJ whose .mtl is missing, with "usemtl" before any object: assimp
+     * logs errors about both but reads the geometry, so it loads. */
+    write_file(TMP "/nomtl.obj", "mtllib nothere.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    scene_t *s = scene_load(TMP "/nomtl.obj", err, sizeof err);
+    CHECK_MSG(s && s->prims.ntris == 1, "nomtl.obj: %s", err);
+    scene_free(s);
+}
+
+/* glTF with its buffer in a separate .bin: assimp must find the buffer
+ * beside the .gltf, on disk and inside an archive, whatever the current
+ * directory. One triangle (0,0,0) (2,0,0) (0,3,0). */
+static void test_gltf(void)
+{
+    static const unsigned char bin[44] = {
+        0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,          /* (0,0,0) */
+        0, 0, 0, 0x40, 0, 0, 0, 0, 0, 0, 0, 0,       /* (2,0,0) */
+        0, 0, 0, 0, 0, 0, 0x40, 0x40, 0, 0, 0, 0,    /* (0,3,0) */
+        0, 0, 1, 0, 2, 0, 0, 0};                     /* uint16 indices 0 1 2, padding */
+    CHECK(system("mkdir -p " TMP "/g/m") == 0);
+    FILE *f = fopen(TMP "/g/m/tri.bin", "wb");
+    if (!f) return;
+    fwrite(bin, 1, sizeof bin, f);
+    fclose(f);
+    write_file(TMP "/g/m/tri.gltf",
+               "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+               "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+               "\"buffers\":[{\"uri\":\"tri.bin\",\"byteLength\":44}],"
+               "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,\"byteLength\":6}],"
+               "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[2,3,0]},"
+               "{\"bufferView\":1,\"componentType\":5123,\"count\":3,\"type\":\"SCALAR\"}]}");
+    CHECK(system("gzip -kf " TMP "/g/m/tri.gltf && tar -C " TMP "/g -czf " TMP "/g.tar.gz m") == 0);
+    const char *names[] = {TMP "/g/m/tri.gltf", TMP "/g/m/tri.gltf.gz", TMP "/g.tar.gz#m/tri.gltf"};
+    for (int i = 0; i < 3; i++) {
+        scene_t *s = scene_load(names[i], err, sizeof err);
+        CHECK_MSG(s != NULL, "%s: %s", names[i], err);
+        if (!s) continue;
+        CHECK(s->prims.ntris == 1 && s->prims.nverts == 3);
+        CHECK(vec_near(s->bounds.lo, 0, 0, 0, 0) && vec_near(s->bounds.hi, 2, 3, 0, 0));
+        scene_free(s);
+    }
 }
 
 static void test_errors(void)
@@ -323,6 +365,7 @@ int main(void)
     test_balls_tessellated();
     test_catalogue_bunny();
     test_files();
+    test_gltf();
     test_errors();
     return check_report();
 }

@@ -1,0 +1,35 @@
+#!/bin/bash
+# setup.sh: install what accelbench needs from Debian 12's packages (when
+# missing) and build it with meson/ninja into build/. Safe to re-run: apt is
+# skipped when every package is present, meson reconfigures in place.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+    gcc libc6-dev pkg-config git meson ninja-build     # toolchain
+    libembree-dev                                      # Embree 3: reference and speed bar
+    libcgal-dev                                        # CGAL: AABB-tree peer and exact judge (coming)
+    libassimp-dev libarchive-dev libpng-dev            # mesh loading, compressed files, PNG output
+    python3-matplotlib                                 # plots from the CSV
+    libcgal-demo glmark2-data occt-misc                # benchmark meshes (bunny, dragon, head ...)
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "setup: installing ${missing[*]}"
+    SUDO=""
+    [ "$(id -u)" = 0 ] || SUDO=sudo
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" > /dev/null
+fi
+
+if [ -f build/build.ninja ]; then
+    meson setup --reconfigure build > /dev/null
+else
+    meson setup build --buildtype=release > /dev/null
+fi
+ninja -C build > /dev/null
+echo "setup: built build/harness/accelbench ($(build/harness/accelbench version))"
