@@ -150,6 +150,14 @@ rayset_t *rayset_load(const char *path, char *err, size_t errlen)
             snprintf(err, errlen, "%s: ray %u has a NaN or infinite origin/direction", path, i);
             goto fail;
         }
+        if (v3_dot(r->dir, r->dir) == 0.0f) {
+            snprintf(err, errlen, "%s: ray %u has a zero-length direction", path, i);
+            goto fail;
+        }
+        if (!(r->tnear <= r->tfar)) {
+            snprintf(err, errlen, "%s: ray %u has an empty range [%g, %g]", path, i, r->tnear, r->tfar);
+            goto fail;
+        }
     }
     fclose(f);
     return rs;

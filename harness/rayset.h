@@ -43,7 +43,10 @@ uint64_t rayset_hash(const rayset_t *rs);
 void rayset_free(rayset_t *rs);
 
 int rayset_save(const rayset_t *rs, const char *path, char *err, size_t errlen);
-/* Reads and checks the file (magic, sizes, stored hash). */
+/* Reads and checks the file (magic, sizes, stored hash) and every ray:
+ * a NaN or infinite origin or direction, a zero-length direction or an
+ * empty [tnear, tfar] range is refused with the ray's index. Workloads
+ * never make such rays, so accelerators may assume they do not occur. */
 rayset_t *rayset_load(const char *path, char *err, size_t errlen);
 
 #endif

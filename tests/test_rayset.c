@@ -97,6 +97,28 @@ int main(void)
         rayset_free(b);
         rayset_free(c);
     }
+    /* Rays no workload makes are refused on load, with their index. */
+    const struct { vec3 dir; float tnear, tfar; const char *why; } bad_rays[] = {
+        {{0, 0, 0}, 0.0f, 1.0f, "ray 1 has a zero-length direction"},
+        {{0, NAN, 1}, 0.0f, 1.0f, "ray 1 has a NaN"},
+        {{0, 0, 1}, 2.0f, 1.0f, "ray 1 has an empty range"},
+    };
+    for (int k = 0; k < 3; k++) {
+        rayset_t *rs = rayset_new("random", s->name, 1, QUERY_CLOSEST);
+        ray_t good = {v3(0, 0, 5), 0.0f, v3(0, 0, -1), INFINITY, RAY_NO_LIGHT, 0};
+        ray_t badr = {v3(0, 0, 5), bad_rays[k].tnear, bad_rays[k].dir, bad_rays[k].tfar, RAY_NO_LIGHT, 0};
+        rayset_push(rs, &good, 0);
+        rayset_push(rs, &badr, 0);
+        rayset_seal(rs);
+        char path[256];
+        snprintf(path, sizeof path, "/tmp/accelbench-test-%d-bad.rays", (int)getpid());
+        CHECK(rayset_save(rs, path, err, sizeof err) == 0);
+        rayset_t *t = rayset_load(path, err, sizeof err);
+        CHECK_MSG(!t && strstr(err, bad_rays[k].why), "bad ray %d: %s", k, t ? "accepted" : err);
+        remove(path);
+        rayset_free(rs);
+    }
+
     ex->ops->destroy(ex);
     ref1->ops->destroy(ref1);
     ref2->ops->destroy(ref2);
