@@ -76,9 +76,12 @@ static int render_image(const options *o, const scene_t *s, accel *a, const rays
     char err[512];
     int rc = image_write_png(im, o->out, err, sizeof err);
     if (rc) fprintf(stderr, "accelbench: %s\n", err);
-    else if (!o->quiet)
-        printf("wrote %s: %ux%u, %u spp, %s through %s, %.1f ray/primitive tests per pixel\n", o->out, prim->width,
-               prim->height, prim->spp, s->name, a->ops->name, (double)work.prim_tests / ((double)prim->width * prim->height));
+    else if (!o->quiet) {
+        printf("wrote %s: %ux%u, %u spp, %s through %s", o->out, prim->width, prim->height, prim->spp, s->name, a->ops->name);
+        if (!(a->ops->flags & ACCEL_OPAQUE))
+            printf(", %.1f ray/primitive tests per pixel", (double)work.prim_tests / ((double)prim->width * prim->height));
+        printf("\n");
+    }
     image_free(im);
     return rc ? 2 : 0;
 }

@@ -128,7 +128,13 @@ scene_t *scene_load(const char *name, char *err, size_t errlen)
         return NULL;
     }
     if (strncmp(name, "spd:", 4) == 0) return load_spd(name, err, errlen);
-    if (strncmp(name, "file:", 5) == 0) return scene_load_mesh(name, name + 5, err, errlen);
+    if (strncmp(name, "file:", 5) == 0) {
+        if (!name[5]) {
+            snprintf(err, errlen, "file: needs a path, as in file:PATH");
+            return NULL;
+        }
+        return scene_load_mesh(name, name + 5, err, errlen);
+    }
     for (size_t i = 0; i < CATALOGUE_N; i++)
         if (strcmp(name, catalogue[i].name) == 0) return load_catalogue(&catalogue[i], err, errlen);
     if (looks_like_path(name)) return scene_load_mesh(name, name, err, errlen);

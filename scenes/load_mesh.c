@@ -226,6 +226,20 @@ static int off_check(const char *data, size_t size, const char *path, char *err,
     return 0;
 }
 
+/* --- PLY pre-check ---
+ * assimp's PLY reader loops forever on a header that ends before its
+ * "end_header" line (a truncated file), so that line must be there. */
+static int ply_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
+{
+    line_reader r = {data, data + size, 0, {0}};
+    for (const char *l; (l = next_line(&r));) {
+        l += strspn(l, " \t");
+        if (strncmp(l, "end_header", 10) == 0 && (!l[10] || strchr(" \t\r", l[10]))) return 0;
+    }
+    snprintf(err, errlen, "%s: the PLY header has no end_header line (truncated file?)", path);
+    return -1;
+}
+
 /* --- assimp's file system: everything from memory ---
  * assimp reads the main file, and any file it references (a glTF's .bin
  * buffers, an OBJ's .mtl), through these callbacks. The main file is the
@@ -357,6 +371,7 @@ static const struct aiScene *import(const file_data_t *f, const char *path, char
     char ext[16];
     compressed_extension(f->name, ext, sizeof ext);
     if (strcmp(ext, "off") == 0 && off_check(f->data, f->size, path, err, errlen) != 0) return NULL;
+    if (strcmp(ext, "ply") == 0 && ply_check(f->data, f->size, path, err, errlen) != 0) return NULL;
 
     mem_fs fs = {f, f->name[0] ? f->name : "mesh", {0}};
     container_prefix(path, fs.prefix, sizeof fs.prefix);

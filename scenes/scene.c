@@ -78,10 +78,11 @@ static const char *what(const scene_t *s)
     return s->source[0] ? s->source : s->name;
 }
 
-/* The default view: look at the centre of the bounding sphere from a
- * fixed octant, far enough that the sphere fits the 45 degree field. The
- * up axis is +y, the usual mesh convention, unless y is the thinnest
- * extent, which suggests a z-up model; the eye is 0.6 up along it. */
+/* The default view: look at the centre of the bounds from a fixed octant,
+ * just far enough that all eight box corners fall inside the 45 degree
+ * field (with a 5% margin), so the model fills the frame. The up axis is
+ * +y, the usual mesh convention, unless y is the thinnest extent, which
+ * suggests a z-up model. */
 static void default_camera(scene_t *s)
 {
     vec3 c = box_center(s->bounds), e = box_extent(s->bounds);
@@ -90,15 +91,26 @@ static void default_camera(scene_t *s)
     bool z_up = e.y < e.x && e.y < e.z;
     vec3 up = z_up ? v3(0, 0, 1) : v3(0, 1, 0);
     vec3 dir = v3_norm(z_up ? v3(1.0f, 0.8f, 0.6f) : v3(1.0f, 0.6f, 0.8f));
-    const float half_fov = 22.5f * (float)M_PI / 180.0f;
-    float dist = radius / sinf(half_fov);
+    vec3 right = v3_norm(v3_cross(up, dir)), up2 = v3_cross(dir, right);
+    const float tan_half = tanf(22.5f * (float)M_PI / 180.0f);
+    /* A corner at depth z toward the eye and lateral offsets x, y is in
+     * view when max(|x|, |y|) <= tan_half * (dist - z). */
+    float dist = 0.0f;
+    for (int k = 0; k < 8; k++) {
+        vec3 corner = v3(k & 1 ? s->bounds.hi.x : s->bounds.lo.x, k & 2 ? s->bounds.hi.y : s->bounds.lo.y,
+                         k & 4 ? s->bounds.hi.z : s->bounds.lo.z);
+        vec3 o = v3_sub(corner, c);
+        float lateral = fmaxf(fabsf(v3_dot(o, right)), fabsf(v3_dot(o, up2)));
+        dist = fmaxf(dist, v3_dot(o, dir) + 1.05f * lateral / tan_half);
+    }
+    if (!(dist > radius * 0.01f)) dist = radius / tan_half;
     camera_t *cam = &s->camera;
     cam->from = v3_madd(c, dir, dist);
     cam->at = c;
     cam->up = up;
     cam->fov_deg = 45.0f;
-    /* Well inside the gap between the eye and the bounding sphere (about
-     * 1.6 radii), yet large enough not to matter for float precision. */
+    /* Well inside the gap between the eye and the nearest corner, yet
+     * large enough not to matter for float precision. */
     cam->hither = 1e-3f * radius;
     cam->width = cam->height = 512;
 }

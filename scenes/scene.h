@@ -45,8 +45,9 @@ typedef struct scene {
  *   spd:balls:SIZE:t[RES]   the same tessellated into triangles (RES default 3)
  *   NAME                    a catalogue mesh (see scene_catalogue_print), e.g. bunny
  *   PATH                    a mesh file read through assimp (OBJ, PLY, OFF, STL,
- *                           glTF, ...), optionally compressed (.gz, .xz);
- *                           "file:PATH" forces the file reading.
+ *                           glTF, ...), optionally compressed (.gz, .xz, ...),
+ *                           or ARCHIVE#MEMBER for one file in a tarball (see
+ *                           compressed.h); "file:PATH" forces the file reading.
  * Returns the scene, or NULL with a one-line reason in err that names the
  * file (and line where the loader knows it). */
 scene_t *scene_load(const char *name, char *err, size_t errlen);

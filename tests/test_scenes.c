@@ -351,6 +351,14 @@ static void test_errors(void)
     CHECK_MSG(s && s->prims.ntris == 2 && s->prims.nverts == 4, "good.off: %s", err);
     scene_free(s);
 
+    /* assimp hangs on a PLY header cut before end_header, and crashes on a
+     * mesh without faces (a point cloud); both are caught first. */
+    write_file(TMP "/cut.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+    expect_error(TMP "/cut.ply", TMP "/cut.ply: the PLY header has no end_header line");
+    write_file(TMP "/points.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                  "property float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n");
+    expect_error(TMP "/points.ply", TMP "/points.ply: mesh 0 has 3 vertices but no faces");
+
     write_file(TMP "/nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
     expect_error(TMP "/nan.obj", TMP "/nan.obj: vertex 1 of mesh 0 has a NaN");
     write_file(TMP "/badindex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
