@@ -25,6 +25,7 @@ typedef struct {
     uint64_t agree, mismatch_real, mismatch_edge, mismatch_tol, mismatch_refwrong;
     bool serial;               /* traced on one thread because the accelerator mutates */
     int width, height, spp, repeat;
+    int passes;                /* traces of the ray set per timed sample; times are per pass */
     const char *git_rev, *machine, *cpu, *date;
 } csv_row;
 

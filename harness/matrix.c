@@ -23,16 +23,28 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-typedef struct { double median, min, max; } timing;
+typedef struct { double median, min, max; int passes; } timing;
 
-/* Time `repeat` traces (after the caller's warm-up) and summarise them. */
-static timing time_traces(accel *a, const rayset_t *rs, int threads, int repeat, answers_t *scratch)
+/* A timed sample should last at least this long, so that clock resolution
+ * and thread start-up do not dominate small ray sets: a sample traces the
+ * set `passes` times, calibrated from the warm-up, and is reported per pass. */
+#define SAMPLE_MIN_MS 20.0
+#define PASSES_MAX 1000
+
+/* Time `repeat` samples (after the caller's warm-up, which took warm_ms)
+ * and summarise them per pass. */
+static timing time_traces(accel *a, const rayset_t *rs, int threads, int repeat, double warm_ms, answers_t *scratch)
 {
+    timing t;
+    t.passes = warm_ms >= SAMPLE_MIN_MS ? 1 : warm_ms <= SAMPLE_MIN_MS / PASSES_MAX ? PASSES_MAX
+                                                                                    : (int)ceil(SAMPLE_MIN_MS / warm_ms);
     double *ms = calloc((size_t)repeat, sizeof *ms);
     if (!ms) abort();
-    for (int k = 0; k < repeat; k++) ms[k] = trace_rayset(a, rs, threads, scratch);
+    for (int k = 0; k < repeat; k++) ms[k] = trace_rayset_passes(a, rs, threads, t.passes, scratch) / t.passes;
     qsort(ms, (size_t)repeat, sizeof *ms, cmp_double);
-    timing t = {repeat % 2 ? ms[repeat / 2] : 0.5 * (ms[repeat / 2 - 1] + ms[repeat / 2]), ms[0], ms[repeat - 1]};
+    t.median = repeat % 2 ? ms[repeat / 2] : 0.5 * (ms[repeat / 2 - 1] + ms[repeat / 2]);
+    t.min = ms[0];
+    t.max = ms[repeat - 1];
     free(ms);
     return t;
 }
@@ -55,6 +67,7 @@ typedef struct {
     rayset_t *rs;
     answers_t *ref;
     accel *ref_accel;
+    double ref_warm_ms; /* the reference trace that made ref: the warm-up of its timing */
 } cell_input;
 
 static const struct accel_ops *reference_ops(void) { return accel_find("embree"); }
@@ -112,7 +125,7 @@ static int cell_prepare(const options *o, const scene_t *s, accel *ref, const wo
         in->rs = w->make(s, ref, &o->wl);
     }
     in->ref = answers_new(in->rs, false);
-    trace_rayset(ref, in->rs, o->threads, in->ref);
+    in->ref_warm_ms = trace_rayset(ref, in->rs, o->threads, in->ref);
     return 0;
 }
 
@@ -210,7 +223,7 @@ int matrix_run(options *o)
             if (o->save_rays && save_rays(o, in.rs, o->nscenes * nw)) status = 2;
             /* Embree's time on the same rays, same run: the denominator of ratio_vs_embree. */
             answers_t *scratch = answers_new(in.rs, false);
-            timing ref_time = time_traces(ref, in.rs, o->threads, o->repeat, scratch);
+            timing ref_time = time_traces(ref, in.rs, o->threads, o->repeat, in.ref_warm_ms, scratch);
             for (int ai = 0; ai < o->naccels && status == 0; ai++) {
                 const accel_config *ac = &o->accels[ai];
                 done++;
@@ -224,10 +237,10 @@ int matrix_run(options *o)
                 }
                 int threads = (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads;
                 answers_t *got = answers_new(in.rs, false);
-                trace_rayset(a, in.rs, threads, got); /* warm-up: answers and counters */
+                double warm_ms = trace_rayset(a, in.rs, threads, got); /* warm-up: answers and counters */
                 verify_result vr;
                 verify_answers(s, in.rs, got, in.ref, &vr);
-                timing tt = time_traces(a, in.rs, threads, o->repeat, scratch);
+                timing tt = time_traces(a, in.rs, threads, o->repeat, warm_ms, scratch);
                 csv_row row = {
                     .scene = s->name, .prims = s->prims.count, .accel = ac->ops->name, .params = ac->params_str,
                     .workload = in.rs->workload, .rays = in.rs->count, .threads = threads, .seed = in.rs->seed,
@@ -238,7 +251,7 @@ int matrix_run(options *o)
                     .counters = got->total, .agree = vr.agree, .mismatch_real = vr.mismatches[MM_REAL],
                     .mismatch_edge = vr.mismatches[MM_EDGE], .mismatch_tol = vr.mismatches[MM_TOL],
                     .mismatch_refwrong = vr.mismatches[MM_REFWRONG], .serial = threads != o->threads,
-                    .width = o->wl.width, .height = o->wl.height, .spp = o->wl.spp, .repeat = o->repeat,
+                    .width = o->wl.width, .height = o->wl.height, .spp = o->wl.spp, .repeat = o->repeat, .passes = tt.passes,
                     .git_rev = mi.git_rev, .machine = mi.host, .cpu = mi.cpu, .date = mi.date,
                 };
                 csv_write_row(csv, &row);

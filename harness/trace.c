@@ -49,7 +49,8 @@ typedef struct {
     accel *a;
     const rayset_t *rs;
     answers_t *out;
-    atomic_uint next;
+    uint64_t total;      /* rays to trace: count * passes */
+    atomic_uint_fast64_t next;
 } job_t;
 
 typedef struct {
@@ -78,6 +79,22 @@ static void trace_range(const job_t *j, accel_ctx *ctx, uint32_t begin, uint32_t
     }
 }
 
+/* Trace rays [begin, end) of the set, with per-ray counters when asked. */
+static void trace_slice(const job_t *j, worker_t *w, uint32_t begin, uint32_t end)
+{
+    if (!j->out->per_ray) {
+        trace_range(j, w->ctx, begin, end, &w->counters);
+        return;
+    }
+    /* Heat maps: one ray at a time, so each ray's counters are its own. */
+    for (uint32_t i = begin; i < end; i++) {
+        counters_t c = {0};
+        trace_range(j, w->ctx, i, i + 1, &c);
+        j->out->per_ray[i] = c;
+        counters_add(&w->counters, &c);
+    }
+}
+
 static void *worker_main(void *arg)
 {
     worker_t *w = arg;
@@ -85,19 +102,16 @@ static void *worker_main(void *arg)
     uint32_t n = j->rs->count;
     memset(&w->counters, 0, sizeof w->counters);
     for (;;) {
-        uint32_t begin = atomic_fetch_add(&j->next, CHUNK);
-        if (begin >= n) break;
-        uint32_t end = begin + CHUNK < n ? begin + CHUNK : n;
-        if (j->out->per_ray) {
-            /* Heat maps: one ray at a time, so each ray's counters are its own. */
-            for (uint32_t i = begin; i < end; i++) {
-                counters_t c = {0};
-                trace_range(j, w->ctx, i, i + 1, &c);
-                j->out->per_ray[i] = c;
-                counters_add(&w->counters, &c);
-            }
-        } else {
-            trace_range(j, w->ctx, begin, end, &w->counters);
+        /* A work item is CHUNK consecutive rays of the passes laid end to
+         * end; it is cut where one pass ends and the next begins. */
+        uint64_t pos = atomic_fetch_add(&j->next, CHUNK);
+        if (pos >= j->total) break;
+        uint64_t stop = pos + CHUNK < j->total ? pos + CHUNK : j->total;
+        while (pos < stop) {
+            uint32_t begin = (uint32_t)(pos % n);
+            uint64_t len = stop - pos < (uint64_t)(n - begin) ? stop - pos : (uint64_t)(n - begin);
+            trace_slice(j, w, begin, begin + (uint32_t)len);
+            pos += len;
         }
     }
     return NULL;
@@ -105,8 +119,14 @@ static void *worker_main(void *arg)
 
 double trace_rayset(accel *a, const rayset_t *rs, int threads, answers_t *out)
 {
+    return trace_rayset_passes(a, rs, threads, 1, out);
+}
+
+double trace_rayset_passes(accel *a, const rayset_t *rs, int threads, int passes, answers_t *out)
+{
     if (threads < 1) threads = 1;
-    job_t job = {.a = a, .rs = rs, .out = out};
+    if (passes < 1) passes = 1;
+    job_t job = {.a = a, .rs = rs, .out = out, .total = (uint64_t)rs->count * (uint64_t)passes};
     atomic_init(&job.next, 0);
     worker_t *w = calloc((size_t)threads, sizeof *w);
     pthread_t *tid = calloc((size_t)threads, sizeof *tid);

@@ -26,6 +26,10 @@ void answers_free(answers_t *a);
  * tracing in milliseconds (threads started and joined inside the timed
  * span, contexts made outside it). threads < 1 means 1. */
 double trace_rayset(accel *a, const rayset_t *rs, int threads, answers_t *out);
+/* The same, tracing the whole set `passes` times back to back with one
+ * thread start-up (for timing small sets); counters are summed over all
+ * passes. Per-ray counters, when asked for, hold the last pass's. */
+double trace_rayset_passes(accel *a, const rayset_t *rs, int threads, int passes, answers_t *out);
 
 /* Monotonic clock in milliseconds. */
 double clock_ms(void);

@@ -67,7 +67,7 @@ expect 2 "not an accelbench ray file" -- "$AB" verify --scenes spd:balls:1 --ray
 rc=$?
 [ $rc = 0 ] && ok || { bad "run exit $rc"; tail "$T/run.log" >&2; }
 csv="$T/run/matrix.csv"
-header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,serial,res,spp,repeat,git_rev,machine,cpu,date"
+header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,serial,res,spp,repeat,passes,git_rev,machine,cpu,date"
 [ "$(head -1 "$csv")" = "$header" ] && ok || bad "CSV header: $(head -1 "$csv")"
 rows=$(($(wc -l < "$csv") - 1))
 [ "$rows" = 20 ] && ok || bad "CSV has $rows rows, want 2 scenes x 2 accels x 5 workloads = 20"
