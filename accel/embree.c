@@ -7,10 +7,16 @@
  * Role: the verification reference (every other accelerator is checked
  * against its answers) and the speed bar (ratio_vs_embree in the CSV).
  *
- * Geometry: triangles as one RTC_GEOMETRY_TYPE_TRIANGLE (geometry 0),
- * spheres as one RTC_GEOMETRY_TYPE_SPHERE_POINT (geometry 1, float4
- * x,y,z,r). Embree's primIDs index those arrays; prim_of[geom][primID]
- * maps them back to scene primitive ids.
+ * Geometry, one Embree geometry per primitive kind:
+ *   0 triangles  RTC_GEOMETRY_TYPE_TRIANGLE over the scene's vertices
+ *   1 spheres    RTC_GEOMETRY_TYPE_SPHERE_POINT (float4 x, y, z, r)
+ *   2 polygons   RTC_GEOMETRY_TYPE_TRIANGLE over their ear-clipping
+ *                triangles (prims_t.poly_tris), all mapped to the polygon
+ *   3 cones      RTC_GEOMETRY_TYPE_USER whose callbacks call prims/'s exact
+ *                cone test (Embree has no open truncated cone); the
+ *                reference then checks the accelerators' structure, and
+ *                prims/ has its own exact unit tests for the cone
+ * prim_of[geom][primID] maps Embree's ids back to scene primitive ids.
  *
  * Parameters (defaults first):
  *   quality = medium | low | high   rtcSetSceneBuildQuality
@@ -22,6 +28,7 @@
  * Counters: Embree's work is not observable (ACCEL_OPAQUE).
  * Context: one RTCIntersectContext per thread, initialised once. */
 #include <embree3/rtcore.h>
+#include <math.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,13 +43,19 @@ static const accel_param embree_params[] = {
 };
 
 typedef struct {
+    const prims_t *prims;
+    const uint32_t *prim_of;
+} cone_user;
+
+typedef struct {
     accel base;
     RTCDevice device;
     RTCScene scene;
-    uint32_t *prim_of[2]; /* [geometry][embree primID] -> scene primitive id */
+    uint32_t *prim_of[4]; /* [geometry][embree primID] -> scene primitive id */
     bool ids_identity;    /* one kind of primitive only: primID is the scene id, skip the map */
     size_t id_bytes;
     _Atomic long long device_bytes; /* running total from the memory monitor */
+    cone_user cone_user;  /* what the cone callbacks see */
     char error[256];      /* last device error, for build failures */
 } embree_accel;
 
@@ -65,8 +78,7 @@ static void embree_destroy(accel *a)
     embree_accel *e = (embree_accel *)a;
     if (e->scene) rtcReleaseScene(e->scene);
     if (e->device) rtcReleaseDevice(e->device);
-    free(e->prim_of[0]);
-    free(e->prim_of[1]);
+    for (int g = 0; g < 4; g++) free(e->prim_of[g]);
     free(e);
 }
 
@@ -111,6 +123,85 @@ static int add_spheres(embree_accel *e, const prims_t *p)
     return 0;
 }
 
+static int add_polygons(embree_accel *e, const prims_t *p)
+{
+    RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), p->nverts);
+    unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), p->npoly_tris);
+    if (!v || !ix) {
+        rtcReleaseGeometry(g);
+        return -1;
+    }
+    for (uint32_t i = 0; i < p->nverts; i++) {
+        v[3 * i + 0] = p->verts[i].x;
+        v[3 * i + 1] = p->verts[i].y;
+        v[3 * i + 2] = p->verts[i].z;
+    }
+    memcpy(ix, p->poly_tris, (size_t)p->npoly_tris * sizeof *p->poly_tris);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(e->scene, g, 2);
+    rtcReleaseGeometry(g);
+    return 0;
+}
+
+/* Cones: a user geometry. The callbacks receive the scene's primitive
+ * store (cone_user) and Embree's primID = the cone's index; prim_of[3]
+ * gives its scene id. */
+static void cone_bounds(const struct RTCBoundsFunctionArguments *args)
+{
+    const cone_user *cu = args->geometryUserPtr;
+    box3 b = prim_bounds(cu->prims, cu->prim_of[args->primID]);
+    args->bounds_o->lower_x = b.lo.x, args->bounds_o->lower_y = b.lo.y, args->bounds_o->lower_z = b.lo.z;
+    args->bounds_o->upper_x = b.hi.x, args->bounds_o->upper_y = b.hi.y, args->bounds_o->upper_z = b.hi.z;
+}
+
+static void cone_intersect(const struct RTCIntersectFunctionNArguments *args)
+{
+    if (args->N != 1 || !args->valid[0]) return;
+    const cone_user *cu = args->geometryUserPtr;
+    struct RTCRayHit *rh = (struct RTCRayHit *)args->rayhit;
+    ray_t r = {v3(rh->ray.org_x, rh->ray.org_y, rh->ray.org_z), rh->ray.tnear,
+               v3(rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z), rh->ray.tfar, RAY_NO_LIGHT, 0};
+    hit_t h = hit_none(&r);
+    counters_t unused = {0};
+    uint32_t id = cu->prim_of[args->primID];
+    if (!prim_intersect(cu->prims, id, &r, &h, &unused)) return;
+    vec3 n = prim_normal(cu->prims, &h, &r);
+    rh->ray.tfar = h.t;
+    rh->hit.u = h.u;
+    rh->hit.v = h.v;
+    rh->hit.Ng_x = n.x, rh->hit.Ng_y = n.y, rh->hit.Ng_z = n.z;
+    rh->hit.primID = args->primID;
+    rh->hit.geomID = args->geomID;
+    rh->hit.instID[0] = args->context->instID[0];
+}
+
+static void cone_occluded(const struct RTCOccludedFunctionNArguments *args)
+{
+    if (args->N != 1 || !args->valid[0]) return;
+    const cone_user *cu = args->geometryUserPtr;
+    struct RTCRay *rr = (struct RTCRay *)args->ray;
+    ray_t r = {v3(rr->org_x, rr->org_y, rr->org_z), rr->tnear, v3(rr->dir_x, rr->dir_y, rr->dir_z), rr->tfar, RAY_NO_LIGHT, 0};
+    counters_t unused = {0};
+    if (prim_occluded(cu->prims, cu->prim_of[args->primID], &r, &unused)) rr->tfar = -INFINITY;
+}
+
+static int add_cones(embree_accel *e, const prims_t *p)
+{
+    e->cone_user.prims = p;
+    e->cone_user.prim_of = e->prim_of[3];
+    RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, p->ncones);
+    rtcSetGeometryUserData(g, &e->cone_user);
+    rtcSetGeometryBoundsFunction(g, cone_bounds, NULL);
+    rtcSetGeometryIntersectFunction(g, cone_intersect);
+    rtcSetGeometryOccludedFunction(g, cone_occluded);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(e->scene, g, 3);
+    rtcReleaseGeometry(g);
+    return 0;
+}
+
 static accel *embree_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
     static const char *const qualities[] = {"medium", "low", "high", NULL};
@@ -145,21 +236,31 @@ static accel *embree_build(const scene_t *scene, const accel_params *params, cha
     if (robust) rtcSetSceneFlags(e->scene, RTC_SCENE_FLAG_ROBUST);
 
     /* Map Embree's (geometry, primID) back to scene primitive ids. */
-    e->prim_of[0] = malloc(((size_t)p->ntris + 1) * sizeof(uint32_t));
-    e->prim_of[1] = malloc(((size_t)p->nspheres + 1) * sizeof(uint32_t));
-    if (!e->prim_of[0] || !e->prim_of[1]) {
-        snprintf(err, errlen, "out of memory for %u primitive ids", p->count);
-        embree_destroy(&e->base);
-        return NULL;
+    size_t per_geom[4] = {p->ntris, p->nspheres, p->npoly_tris, p->ncones};
+    for (int g = 0; g < 4; g++) {
+        e->prim_of[g] = malloc((per_geom[g] + 1) * sizeof(uint32_t));
+        if (!e->prim_of[g]) {
+            snprintf(err, errlen, "out of memory for %u primitive ids", p->count);
+            embree_destroy(&e->base);
+            return NULL;
+        }
+        e->id_bytes += per_geom[g] * sizeof(uint32_t);
     }
-    e->id_bytes = ((size_t)p->ntris + p->nspheres) * sizeof(uint32_t);
-    e->ids_identity = true;
+    static const int geom_of_kind[PRIM_KINDS] = {[PRIM_TRIANGLE] = 0, [PRIM_SPHERE] = 1, [PRIM_POLYGON] = 2, [PRIM_CONE] = 3};
+    e->ids_identity = p->npolygons == 0;
     for (uint32_t id = 0; id < p->count; id++) {
-        e->prim_of[p->kind[id] == PRIM_SPHERE][p->index[id]] = id;
-        if (p->index[id] != id) e->ids_identity = false;
+        uint32_t k = p->index[id];
+        if (p->kind[id] == PRIM_POLYGON) {
+            const polygon_t *poly = &p->polygons[k];
+            for (uint32_t t = 0; t < poly->count - 2; t++) e->prim_of[2][poly->tri_first + t] = id;
+        } else {
+            e->prim_of[geom_of_kind[p->kind[id]]][k] = id;
+        }
+        if (k != id) e->ids_identity = false;
     }
 
-    if ((p->ntris && add_triangles(e, p)) || (p->nspheres && add_spheres(e, p))) {
+    if ((p->ntris && add_triangles(e, p)) || (p->nspheres && add_spheres(e, p)) ||
+        (p->npoly_tris && add_polygons(e, p)) || (p->ncones && add_cones(e, p))) {
         snprintf(err, errlen, "embree geometry: %s", e->error[0] ? e->error : "buffer allocation failed");
         embree_destroy(&e->base);
         return NULL;

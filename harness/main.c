@@ -11,6 +11,7 @@
 #include "matrix.h"
 #include "options.h"
 #include "render.h"
+#include "scene_cmd.h"
 #include "version.h"
 
 static void usage(FILE *out)
@@ -23,6 +24,7 @@ static void usage(FILE *out)
             "  run      benchmark matrix: scenes x accels x workloads -> DIR/matrix.csv and plots\n"
             "  verify   every ray's answer against Embree; mismatches classified and replayable\n"
             "  render   a shaded image or a per-pixel cost heat map through one accelerator\n"
+            "  scene    info SCENE (counts, bounds, view, hash) | export SCENE --nff FILE\n"
             "  version  the build's git revision\n"
             "\n"
             "example: accelbench run --scenes spd:balls:3,bunny --accels exhaustive,embree --res 64x64\n");
@@ -85,6 +87,7 @@ int main(int argc, char **argv)
         return 0;
     }
     if (!strcmp(cmd, "list")) return cmd_list(argc - 1, argv + 1);
+    if (!strcmp(cmd, "scene")) return scene_cmd_main(argc - 1, argv + 1);
     int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? matrix_verify
                                                             : !strcmp(cmd, "render") ? render_main : NULL;
     if (!run) {

@@ -20,7 +20,28 @@
  *   stable, but never hit.
  * - Spheres return the nearest root in range, so a ray starting inside a
  *   sphere hits its far side (as Embree does).
- * - Triangles and spheres are two-sided.
+ * - Cones (NFF "c"): the lateral surface of a truncated cone from the base
+ *   centre B, radius rb, to the apex centre A, radius ra. Open ends (no
+ *   caps). Either end may be the wider one, ra == rb is a cylinder and one
+ *   radius may be 0 (a pointed cone), but not both; B != A. Exact quadric,
+ *   nearest root in range whose point lies between the two end planes, so
+ *   a ray starting inside the tube hits the far wall. A ray lying in the
+ *   surface (on a cylinder's axis, along a generator line) misses. The hit
+ *   has u = the fraction of the way from B to A, v = 0. NFF's negative
+ *   radii ("inside visible") are the loader's business: pass |r|.
+ * - Polygons (NFF "p"): N >= 3 vertices (indices into verts) of a planar,
+ *   simple, possibly concave polygon. The plane comes from Newell's method
+ *   over all vertices, so collinear leading vertices and slightly
+ *   non-planar input are fine; its normal follows the winding by the right
+ *   hand rule. Inside-ness is the even-odd crossings test (Haines) done in
+ *   the same ray-sheared 2D frame as the watertight triangle test, with a
+ *   half-open rule: a ray through an edge shared by two polygons that lie
+ *   on opposite sides of it as seen along the ray hits exactly one of them
+ *   (both polygons see the same sheared vertices, so rounding cannot open
+ *   a gap). Zero-area polygons (all vertices collinear, fewer than 3
+ *   distinct ones) are kept, so ids stay stable, but flagged degenerate and
+ *   never hit. Hits have u = v = 0.
+ * - All kinds are two-sided.
  */
 #ifndef ACCELBENCH_PRIMS_H
 #define ACCELBENCH_PRIMS_H
@@ -30,15 +51,28 @@
 #include <stdint.h>
 #include "ray.h"
 
-typedef enum { PRIM_TRIANGLE = 0, PRIM_SPHERE = 1, PRIM_KINDS } prim_kind;
+typedef enum { PRIM_TRIANGLE = 0, PRIM_SPHERE = 1, PRIM_CONE = 2, PRIM_POLYGON = 3, PRIM_KINDS } prim_kind;
 
 typedef struct { uint32_t v[3]; } tri_t;     /* indices into prims_t.verts */
 typedef struct { vec3 center; float radius; } sphere_t;
+typedef struct { vec3 base; float base_radius; vec3 apex; float apex_radius; } cone_t;
+
+/* A polygon's vertex indices are poly_verts[first .. first + count). The
+ * rest is derived by prims_finish(). */
+typedef struct {
+    uint32_t first, count;
+    vec3 normal;        /* unit plane normal (Newell), right-handed to the winding; 0 if degenerate */
+    float offset;       /* the plane is dot(normal, x) == offset (through the vertex centroid) */
+    uint32_t tri_first; /* its count - 2 ear-clipping triangles are poly_tris[tri_first ..] */
+    uint8_t axis;       /* dominant axis of normal, the one a 2D projection drops */
+    uint8_t degenerate; /* 1 when the polygon has zero area: never hit */
+} polygon_t;
+_Static_assert(sizeof(cone_t) == 32 && sizeof(polygon_t) == 32, "cone_t and polygon_t are 32 bytes");
 
 typedef struct prims {
     uint32_t count;      /* all primitives */
     uint8_t *kind;       /* [count] prim_kind */
-    uint32_t *index;     /* [count] index into tris or spheres */
+    uint32_t *index;     /* [count] index into tris, spheres, cones or polygons */
     box3 *bounds;        /* [count] tight bounds, filled by prims_finish() */
 
     uint32_t nverts, nverts_cap;
@@ -49,6 +83,15 @@ typedef struct prims {
     uint32_t ndegenerate;
     uint32_t nspheres, nspheres_cap;
     sphere_t *spheres;
+    uint32_t ncones, ncones_cap;
+    cone_t *cones;
+    uint32_t npolygons, npolygons_cap;
+    polygon_t *polygons;
+    uint32_t npoly_verts, npoly_verts_cap;
+    uint32_t *poly_verts;      /* all polygons' vertex indices, concatenated */
+    uint32_t npoly_tris;
+    tri_t *poly_tris;          /* [npoly_tris] all polygons' triangulations (prims_finish) */
+    uint32_t npoly_degenerate; /* polygons flagged degenerate (not in ndegenerate) */
 
     uint32_t count_cap;
     box3 box;            /* bounds of all primitives */
@@ -62,18 +105,27 @@ void prims_init(prims_t *p);
 uint32_t prims_add_vertex(prims_t *p, vec3 v);
 uint32_t prims_add_triangle(prims_t *p, uint32_t a, uint32_t b, uint32_t c);
 uint32_t prims_add_sphere(prims_t *p, vec3 center, float radius);
+uint32_t prims_add_cone(prims_t *p, vec3 base, float base_radius, vec3 apex, float apex_radius);
+/* Copies the n indices (into verts, in winding order). */
+uint32_t prims_add_polygon(prims_t *p, const uint32_t *vertex_indices, uint32_t n);
 /* Returns 0, or -1 with a reason in err: a NaN/infinite coordinate, a
- * vertex index out of range, a sphere radius that is not finite and > 0.
- * The reason names the primitive or vertex by index. */
+ * vertex index out of range, a sphere radius that is not finite and > 0,
+ * a cone with a NaN/infinite value, a negative radius, both radii 0 or
+ * base == apex, a polygon with fewer than 3 vertices. The reason names the
+ * primitive or vertex by index. */
 int prims_finish(prims_t *p, char *err, size_t errlen);
 void prims_free(prims_t *p);
 /* Heap bytes held by the store. */
 size_t prims_memory(const prims_t *p);
 
 /* Bounds and exact overlap: triangle/box by the separating axis test
- * (Akenine-Moller 2001), sphere/box by Arvo's closest-point distance.
+ * (Akenine-Moller 2001), sphere/box by Arvo's closest-point distance,
+ * polygon/box as "one of its ear-clipping triangles overlaps" (exact for
+ * simple polygons), cone/box exact up to a margin of about 1e-13 of the
+ * coordinates' magnitude (see cone.c: it may say true for a box that
+ * misses the surface by less than that, never false for one touching it).
  * Touching counts as overlapping, so a primitive lying exactly on a voxel
- * plane is in both voxels. */
+ * plane is in both voxels. Cone bounds are those of its two end discs. */
 static inline box3 prim_bounds(const prims_t *p, uint32_t id) { return p->bounds[id]; }
 bool prim_overlaps_box(const prims_t *p, uint32_t id, box3 box);
 
@@ -92,10 +144,33 @@ vec3 prim_normal(const prims_t *p, const hit_t *hit, const ray_t *ray);
  * [ray->tnear, ray->tfar) or returns false. The arbiter for disputed rays. */
 bool prim_intersect_double(const prims_t *p, uint32_t id, const ray_t *ray, double *t);
 /* How close the point at distance t on the ray is to the boundary of the
- * primitive, in world units: for a triangle the distance to its nearest
- * edge line segment, for a sphere how far the ray line passes inside the
- * silhouette (radius minus the ray line's distance to the centre). Small
- * values mark edge, vertex or silhouette grazes. */
+ * primitive, in world units: for a triangle or polygon the distance to its
+ * nearest edge line segment, for a sphere how far the ray line passes
+ * inside the silhouette (radius minus the ray line's distance to the
+ * centre). For a cone the smaller of the distance to the nearer rim circle
+ * and how far the ray line is from being tangent to the (infinite) cone:
+ * for a cylinder exactly the radius minus the distance between the ray line
+ * and the axis measured across the axis, negative when the line misses.
+ * Small values mark edge, vertex, rim or silhouette grazes. */
 double prim_boundary_distance(const prims_t *p, uint32_t id, const ray_t *ray, double t);
+
+/* --- polygon helpers, also for scene code --- */
+
+/* The unit normal of the polygon pts[0..n) by Newell's method (the sum of
+ * the cross products of consecutive vertices, taken relative to pts[0]),
+ * right-handed to the winding; (0,0,0) for a zero-area polygon. */
+vec3 polygon_normal(const vec3 *pts, uint32_t n);
+
+/* Ear clipping (Meisters 1975: every simple polygon with n > 3 vertices has
+ * an ear). Triangulates the simple, possibly concave, planar polygon
+ * pts[0..n) whose normal is given (any length; a zero normal means "compute
+ * it with polygon_normal"), writing n - 2 triangles of local indices into
+ * tris and returning n - 2 (0 when n < 3). Either winding works; each
+ * triangle keeps the polygon's winding. Collinear vertices give zero-area
+ * triangles. If no ear can be found because the polygon is not simple
+ * (self-intersecting), the rest is fanned from one vertex, so the count is
+ * still n - 2 but the triangles may overlap or leave the polygon.
+ * O(n^2) typically, O(n^3) worst case. */
+uint32_t polygon_triangulate(const vec3 *pts, uint32_t n, vec3 normal, uint32_t (*tris)[3]);
 
 #endif

@@ -89,4 +89,22 @@ scene_t *scene_spd_balls(const char *name, int size, int tess_res, char *err, si
 /* Spheres in the sphereflake of a size: sum_{k=0..size} 9^k. */
 uint64_t spd_balls_sphere_count(int size);
 
+/* Any SPD database (scenes/spd.h): generator "balls", "gears", "mount",
+ * "rings", "teapot", "tetra", "tree", "lattice", "shells", "jacks" or
+ * "sombrero" at a size (each has its range, see scene_catalogue_print);
+ * tess_res 0 for true primitives, else 1..64 for the triangle-only form.
+ * scene_load() names them spd:NAME, spd:NAME:SIZE, spd:NAME:t[RES] and
+ * spd:NAME:SIZE:t[RES] (RES default 3, the SPD's OUTPUT_RESOLUTION). The
+ * camera, lights, background and materials are the SPD view's. Errors:
+ * "unknown SPD database 'x' (known: balls, ...)", "spd:gears:99: size must
+ * be 1..12", or too many primitives for the store. */
+scene_t *scene_spd(const char *name, const char *generator, int size, int tess_res, char *err, size_t errlen);
+
+/* Named sets of scenes for the scaling plots: for a set name ("set:medium",
+ * "set:spd", "set:scaling", "set:scaling:FAMILY"; scene_catalogue_print
+ * lists them) write its comma-separated scene names into out and return 1;
+ * return 0 if name is not a set, -1 if it is one but does not fit in
+ * outlen (out then holds "" ). */
+int scene_set_expand(const char *name, char *out, size_t outlen);
+
 #endif

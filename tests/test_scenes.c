@@ -53,15 +53,15 @@ static void test_balls_counts(void)
         if (!s) continue;
         CHECK(spd_balls_sphere_count(size) == spheres[size]);
         CHECK(s->prims.nspheres == spheres[size]);
-        CHECK(s->prims.ntris == 2);
-        CHECK(s->prims.count == spheres[size] + 2);
+        CHECK(s->prims.npolygons == 1 && s->prims.ntris == 0);
+        CHECK(s->prims.count == spheres[size] + 1); /* SPD's count: spheres + 1 floor quad */
         CHECK(strcmp(s->name, name) == 0);
         CHECK(s->source[0] != '\0');
         scene_free(s);
     }
     scene_t *s = scene_load("spd:balls", err, sizeof err); /* default size 4 */
     CHECK_MSG(s != NULL, "%s", err);
-    if (s) CHECK(s->prims.nspheres == 7381 && s->prims.count == 7383);
+    if (s) CHECK(s->prims.nspheres == 7381 && s->prims.count == 7382);
     scene_free(s);
 }
 
@@ -72,18 +72,21 @@ static void test_balls_geometry(void)
     if (!s) return;
     const prims_t *p = &s->prims;
 
-    /* The floor comes first: two triangles fanned from the SPD's first corner. */
-    CHECK(p->kind[0] == PRIM_TRIANGLE && p->kind[1] == PRIM_TRIANGLE && p->kind[2] == PRIM_SPHERE);
-    const tri_t *t0 = &p->tris[p->index[0]], *t1 = &p->tris[p->index[1]];
-    CHECK(vec_near(p->verts[t0->v[0]], 12, 12, -0.5, 0));
-    CHECK(vec_near(p->verts[t0->v[1]], -12, 12, -0.5, 0));
-    CHECK(vec_near(p->verts[t0->v[2]], -12, -12, -0.5, 0));
-    CHECK(t1->v[0] == t0->v[0] && t1->v[1] == t0->v[2]);
-    CHECK(vec_near(p->verts[t1->v[2]], 12, -12, -0.5, 0));
+    /* The floor comes first: one quad polygon, corners in the SPD's order. */
+    CHECK(p->kind[0] == PRIM_POLYGON && p->kind[1] == PRIM_SPHERE);
+    const polygon_t *floor_poly = &p->polygons[p->index[0]];
+    CHECK(floor_poly->count == 4);
+    if (floor_poly->count == 4) {
+        const uint32_t *fv = &p->poly_verts[floor_poly->first];
+        CHECK(vec_near(p->verts[fv[0]], 12, 12, -0.5, 0));
+        CHECK(vec_near(p->verts[fv[1]], -12, 12, -0.5, 0));
+        CHECK(vec_near(p->verts[fv[2]], -12, -12, -0.5, 0));
+        CHECK(vec_near(p->verts[fv[3]], 12, -12, -0.5, 0));
+    }
     CHECK(p->ndegenerate == 0);
 
     /* Root: centre 0, radius 0.5. */
-    sphere_t root = p->spheres[p->index[2]];
+    sphere_t root = p->spheres[p->index[1]];
     CHECK(vec_near(root.center, 0, 0, 0, 0));
     CHECK_NEAR(root.radius, 0.5, 0);
 
@@ -94,23 +97,23 @@ static void test_balls_geometry(void)
      * identity, so the child sits at (1,1,2)/sqrt6 * (0.5 + 0.5/3)
      * = (2,2,4)/(3 sqrt6) = (0.272166, 0.272166, 0.544331), radius 1/6. */
     double k = 2.0 / (3.0 * sqrt(6.0));
-    sphere_t c0 = p->spheres[p->index[3]];
+    sphere_t c0 = p->spheres[p->index[2]];
     CHECK(vec_near(c0.center, k, k, 2 * k, 1e-5));
     CHECK_NEAR(c0.radius, 1.0 / 6.0, 1e-6);
     /* Second child: (1,0,-1)/sqrt2 turned the same way. a.v = 1/2,
      * a x v = (1,1,1)/2, so v/sqrt3 + (1,1,1)/2*sqrt(2/3) + a/2*(1 - 1/sqrt3)
      * = (cos 15deg, sin 15deg, 0): on the equator, at distance 2/3. */
     double c15 = cos(M_PI / 12), s15 = sin(M_PI / 12);
-    CHECK(vec_near(p->spheres[p->index[4]].center, c15 * 2 / 3, s15 * 2 / 3, 0, 1e-5));
+    CHECK(vec_near(p->spheres[p->index[3]].center, c15 * 2 / 3, s15 * 2 / 3, 0, 1e-5));
     /* Third: (0,1,-1)/sqrt2, the mirror image: (sin 15, cos 15, 0). */
-    CHECK(vec_near(p->spheres[p->index[5]].center, s15 * 2 / 3, c15 * 2 / 3, 0, 1e-5));
+    CHECK(vec_near(p->spheres[p->index[4]].center, s15 * 2 / 3, c15 * 2 / 3, 0, 1e-5));
     /* Fourth: the first turned 120 degrees about +Z: azimuth 165 degrees,
      * horizontal length sqrt(2)/sqrt(6) * 2/3, same height. */
     double h = sqrt(2.0) / sqrt(6.0) * 2 / 3;
-    CHECK(vec_near(p->spheres[p->index[6]].center, h * cos(165 * M_PI / 180), h * sin(165 * M_PI / 180), 2 * k, 1e-5));
+    CHECK(vec_near(p->spheres[p->index[5]].center, h * cos(165 * M_PI / 180), h * sin(165 * M_PI / 180), 2 * k, 1e-5));
     /* All 9 children touch the root and have radius 1/6. */
     for (int i = 0; i < 9; i++) {
-        sphere_t c = p->spheres[p->index[3 + i]];
+        sphere_t c = p->spheres[p->index[2 + i]];
         CHECK_NEAR(v3_len(c.center), 0.5 + 1.0 / 6.0, 1e-6);
         CHECK_NEAR(c.radius, 1.0 / 6.0, 1e-7);
     }
@@ -125,14 +128,13 @@ static void test_balls_geometry(void)
         CHECK(vec_near(s->lights[0], 4, 3, 2, 0) && vec_near(s->lights[1], 1, -4, 4, 0) && vec_near(s->lights[2], -3, 1, 5, 0));
     CHECK(vec_near(s->background, 0.078, 0.361, 0.753, 1e-6));
     CHECK(s->nmaterials == 2);
-    const material_t *fm = &s->materials[s->prim_material[0]], *sm = &s->materials[s->prim_material[2]];
-    CHECK(s->prim_material[1] == s->prim_material[0]);
+    const material_t *fm = &s->materials[s->prim_material[0]], *sm = &s->materials[s->prim_material[1]];
     CHECK(vec_near(fm->color, 1, 0.75, 0.33, 1e-6) && fm->kd == 0.8f && fm->ks == 0.0f);
     CHECK(vec_near(sm->color, 1, 0.9, 0.7, 1e-6) && sm->kd == 0.5f && sm->ks == 0.5f);
-    CHECK(s->prim_material[11] == s->prim_material[2]);
+    CHECK(s->prim_material[10] == s->prim_material[1]);
     scene_free(s);
 
-    /* Depth-first order: in balls 2, id 3 is the root's first child and id 4
+    /* Depth-first order: in balls 2, id 2 is the root's first child and id 3
      * is that child's first child. Its M turns +Z to d = (1,1,2)/sqrt6 about
      * a = (-1,1,0)/sqrt2 by acos(2/sqrt6); a.d = 0, a x d = (1,1,-1)/sqrt3, so
      * M d = d*(2/sqrt6) + (1,1,-1)/sqrt3 * (1/sqrt3) = (2,2,1)/3. Radius
@@ -141,12 +143,12 @@ static void test_balls_geometry(void)
     CHECK_MSG(s != NULL, "%s", err);
     if (!s) return;
     p = &s->prims;
-    sphere_t g = p->spheres[p->index[4]];
+    sphere_t g = p->spheres[p->index[3]];
     CHECK(vec_near(g.center, k + 2.0 / 3 * 2 / 9, k + 2.0 / 3 * 2 / 9, 2 * k + 1.0 / 3 * 2 / 9, 1e-5));
     CHECK_NEAR(g.radius, 1.0 / 18.0, 1e-7);
-    /* After the first child's 9 children (ids 4..12), id 13 is the root's second child. */
-    CHECK_NEAR(p->spheres[p->index[13]].radius, 1.0 / 6.0, 1e-7);
-    CHECK(vec_near(p->spheres[p->index[13]].center, c15 * 2 / 3, s15 * 2 / 3, 0, 1e-5));
+    /* After the first child's 9 children (ids 3..11), id 12 is the root's second child. */
+    CHECK_NEAR(p->spheres[p->index[12]].radius, 1.0 / 6.0, 1e-7);
+    CHECK(vec_near(p->spheres[p->index[12]].center, c15 * 2 / 3, s15 * 2 / 3, 0, 1e-5));
     scene_free(s);
 }
 
@@ -306,7 +308,7 @@ static void test_errors(void)
     expect_error(TMP "/missing.obj", TMP "/missing.obj: No such file or directory");
     expect_error("/nonexistent/data.tar.gz#a.off", "/nonexistent/data.tar.gz: No such file or directory");
     expect_error("nosuchscene", "unknown scene 'nosuchscene' (see: accelbench list scenes)");
-    expect_error("spd:gears", "unknown scene 'spd:gears'");
+    expect_error("spd:cubes", "unknown SPD database 'cubes'");
     expect_error("spd:balls:99", "spd:balls:99: size must be 1..7");
     expect_error("spd:balls:0", "size must be 1..7");
     expect_error("spd:balls:x", "size must be 1..7");

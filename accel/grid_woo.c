@@ -1,0 +1,766 @@
+/* grid_woo.c: uniform grids, raw (`grid`) and with Woo's optimised
+ * Snyder-Barr ray boxes (`grid-raybox`).
+ *
+ * Papers:
+ *   A. Woo, "Ray Tracing Polygons using Spatial Subdivision", Graphics
+ *     Interface 1992 (sections cited per switch below).
+ *   J. Amanatides, A. Woo, "A Fast Voxel Traversal Algorithm for Ray
+ *     Tracing", Eurographics 1987 (the floating-point 3DDDA; Woo s3).
+ *   J. Snyder, A. Barr, "Ray Tracing Complex Models Containing Surface
+ *     Tessellations", SIGGRAPH 1987 (ray bounding boxes; Woo s3).
+ *   B. Arnaldi, T. Priol, K. Bouatouch, "A New Space Subdivision Method for
+ *     Ray Tracing CSG Modelled Scenes", 1987 (mailboxes), and the survey
+ *     (Arvo-Kirk 1989) s5.2-5.3: the 3DDDA, mailboxes, and the rule that a
+ *     walk may end only when the hit lies in the current voxel.
+ *
+ * Both accelerators are this one file and share every line of code and the
+ * parameter keys; they differ in defaults and in one flag:
+ *   grid         raw grid: mailbox on, every Woo switch and the ray box off.
+ *                Thread-safe (no ACCEL_MUTATES). If the user turns mtf on,
+ *                each tracing context gets its OWN copy of the candidate-id
+ *                array and reorders that (threads x list bytes extra, not
+ *                in memory()); the shared grid is never written, so it stays
+ *                thread-safe: that is how move-to-front can be per-thread
+ *                safe without the flag (coherence is then per thread, which
+ *                the harness's runs of 256 consecutive rays keep).
+ *   grid-raybox  "Woo default": ray box on with every switch Woo's final
+ *                implementation keeps. ACCEL_MUTATES: move-to-front
+ *                reorders the SHARED lists as in Woo's linked lists, so the
+ *                harness traces it on one thread (even with mtf=off).
+ *
+ * Parameters (grid default / grid-raybox default):
+ *   res=auto|NxMxK   auto / auto: Woo s8.2, m = n^(1/3) * density,
+ *                    X = s_x / maxS * m (Y, Z alike), rounded, each >= 1,
+ *                    at most GRID_AUTO_MAX (grid_auto_resolution()).
+ *   density=1.0      multiplies m (auto only).
+ *   insert=exact|bbox    exact / exact: a primitive goes in every voxel its
+ *                    surface touches (prim_overlaps_box) or every voxel its
+ *                    bounds touch. Voxel boxes are padded by `pad` (below)
+ *                    for insertion, so touching (a square lying exactly on
+ *                    a voxel plane) puts it in both voxels.
+ *   mailbox=on|off   on / on: Arnaldi mailboxes (survey s5.3): a per-thread
+ *                    array of the last ray id that tested each primitive
+ *                    (in accel_ctx, 4 bytes per primitive per thread); a
+ *                    re-test by the same ray is skipped and counted in
+ *                    mailbox_hits. The "stored result" of the survey is the
+ *                    running closest hit itself (see the walk below).
+ *   raybox=on|off    off / on: Snyder-Barr ray box (Woo s3): the box of the
+ *                    ray segment inside the voxel; a candidate whose bounds
+ *                    do not cross it is skipped (one box test each).
+ *   mtf=off|hit|almost   off / almost: Woo s5.1-5.2 move-to-front of the
+ *                    voxel's candidate list, closest-hit rays only (Woo:
+ *                    not for shadow rays). hit: a primitive that returns a
+ *                    (closer) hit moves to the front. almost: also an
+ *                    "almost hit", defined from prim_bounds only as Woo's
+ *                    "passed the [Woo90] bounding-box check but failed the
+ *                    inside test": prim_intersect found no closer hit AND
+ *                    the ray's segment [t1, min(t2, tHit)] in the voxel
+ *                    passes through the primitive's bounding box (slab
+ *                    test; this is exactly the woo90 pre-test below, so
+ *                    with woo90=on it costs nothing, else one box test).
+ *                    Array lists: the entry is moved to the front and the
+ *                    ones before it shift back one (Woo's linked-list move).
+ *   dynbox=on|off    off / on: Woo s6: once a hit tHit is known the ray
+ *                    box's far end is min(t2, tHit) (recomputed at once).
+ *   voxbox=on|off    off / on: Woo s6: per occupied cell a box B = union of
+ *                    its candidates' bounds clipped to the voxel. Unless B
+ *                    is the whole voxel (Woo: "only if B is smaller than the
+ *                    voxel"), the ray is slab-tested against B first (one
+ *                    box test): a miss skips the voxel, a hit at [t1, t2]
+ *                    narrows the voxel's range (ray box, tclip, woo90).
+ *   beta=0.75        0 / 0.75: Woo s6.2: skip the crossing tests in a voxel
+ *                    while t2 - t1 > beta * voxel diagonal (in t units:
+ *                    divided by |dir|); they resume when dynbox shrinks the
+ *                    box below that. beta <= 0 disables the rule (always
+ *                    test). Only meaningful with raybox=on.
+ *   eyeorigin=on|off off / off: Woo s7.2 translates the database so the eye
+ *                    is at (0,0,0). prims/ owns the geometry, so the plane
+ *                    numerator cannot be changed; what is implemented is the
+ *                    ray-box part of it: the grid keeps a copy of every
+ *                    primitive's bounds translated by -camera.from (24
+ *                    bytes per primitive), and for rays whose origin equals
+ *                    camera.from bit for bit (primary rays) the ray box is
+ *                    built as t*D instead of O + t*D (saves 6 adds per box,
+ *                    per voxel and per dynbox update) and crossed against
+ *                    the translated bounds. Other rays are unchanged. Needs
+ *                    raybox=on to do anything.
+ *   tclip=on|off     off / on: Woo s7.3: the primitive tests of a voxel get
+ *                    tnear = max(ray tnear, t1 - slack) instead of the
+ *                    ray's own tnear: hits before the voxel (or before B)
+ *                    are rejected inside prims/ (a hit there would lie in an
+ *                    earlier voxel, where the primitive was already tested).
+ *   rayid=off|twopass  off / off: Woo s5.3: two passes over the voxel's list,
+ *                    first the primitives whose last-tested ray id (the
+ *                    mailbox array; allocated also when mailbox=off) is
+ *                    within RAYID_WINDOW = 64 of the current ray's id, then
+ *                    the rest. Woo removed it; it is here to measure.
+ *   woo90=on|off     off / on: Woo s4 ([Woo90] hit point vs bounding box
+ *                    before the inside test). The inside test is inside
+ *                    prims/, so it maps to: before prim_intersect, slab-test
+ *                    the ray segment [t1, min(t2, tHit)] of the voxel
+ *                    against the primitive's bounds (one box test); skip
+ *                    the primitive on a miss. It is the exact form of "the
+ *                    plane hit point lies in the box" for any primitive.
+ *   memcap=4096      MiB: refuse (before allocating them) cell arrays plus
+ *                    id lists larger than this.
+ *
+ * Memory layout (memory() counts all of it; ncells = X*Y*Z):
+ *   start[ncells + 1]  uint32: CSR offsets; cell c's candidates are
+ *                      ids[start[c] .. start[c+1]); cell c = i + X*(j + Y*k).
+ *   ids[nrefs]         uint32 primitive ids, per cell in id order at build
+ *                      (move-to-front reorders them in place).
+ *   vbox[ncells]       box3 (24 bytes) B boxes, and vfull[ncells] (1 byte:
+ *                      B is the whole voxel): only when voxbox=on.
+ *   relb[count]        box3 eye-translated primitive bounds: eyeorigin=on.
+ *   planes             (X + Y + Z + 3) floats: the voxel planes; traversal
+ *                      and insertion use the same floats.
+ *   Total = 4(ncells + 1) + 4 nrefs [+ 25 ncells] [+ 24 count] + planes.
+ *   Per thread (context, not in memory()): 4 bytes per primitive for the
+ *   mailbox / ray-id stamps; 4 nrefs for `grid` with mtf on.
+ *
+ * The walk (Amanatides-Woo 3DDDA in float; the next plane's t is computed
+ * from the stored plane each step, (plane - org) * (1/dir), rather than
+ * accumulated, so every voxel's [tMin, tMax] is exact to an ulp):
+ *   - the ray is clipped to the grid box (slab test, one box test) and
+ *     starts at org + max(tnear, tenter) * dir; dir components of 0 give
+ *     an infinite next-plane t and never step.
+ *   - closest hit: every candidate is tested over [tnear, tHit) (tnear
+ *     raised by tclip), so the running hit is the closest of everything
+ *     tested so far: the survey's stored mailbox result. The walk ends at
+ *     the first voxel whose tMax >= tHit, i.e. a hit is only ever accepted
+ *     as final in the voxel that contains it; one beyond the voxel keeps
+ *     the walk going (survey s5.3, Woo s6 footnote). Float: the stop test
+ *     is exact (tHit <= tMax); a hit within an ulp of a plane may stop one
+ *     voxel early, but every primitive within `pad` of a plane is in both
+ *     voxels, so nothing closer can be missed by more than rounding.
+ *   - any hit: stops at the first prim_occluded.
+ *   - culling (ray box, voxbox, woo90) never stamps the mailbox: only a
+ *     primitive actually tested is marked, so a primitive skipped in one
+ *     voxel is tested in the voxel where its hit lies.
+ * Slack: pad = 2e-6 * max|box coordinate| + 1e-6 * box diagonal, plus
+ * 1e-6 * max|ray origin| per ray: the voxel boxes for insertion, B, the
+ * ray boxes and the woo90 bounds are grown by it (about 16 float ulps at
+ * the scene's scale); tclip's t slack is that over max|dir component|.
+ * Empty scenes: no lists, every ray misses. Flat scenes: a zero-extent axis
+ * gets 1 cell (auto) and its box is padded by 1e-3 of the largest extent.
+ *
+ * Counters: box_tests = 1 grid clip per ray + voxbox tests + crossing tests
+ * + woo90 and almost-hit slab tests; steps = voxels entered; empty_leaves
+ * = voxels entered with no candidates; mailbox_hits = skipped re-tests.
+ *
+ * Not implemented: Woo s6.3 (multiple ray boxes per voxel, which he left as
+ * an idea), s7.1 (reflection-ray numerator reuse: he dropped it, and it
+ * needs the plane inside prims/), the s7.2 plane-numerator saving itself
+ * (prims/ owns the plane test), step (2)/(3) splitting inside the
+ * primitive test. Building is single-threaded. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "accel.h"
+#include "grid_woo.h"
+
+#define RAYID_WINDOW 64u
+#define RES_MAX 100000
+
+enum { MTF_OFF = 0, MTF_HIT = 1, MTF_ALMOST = 2 };
+
+#define GRID_PARAM_TABLE(RAYBOX, MTF, DYN, VOX, BETA, TCLIP, WOO90)                                                  \
+    {                                                                                                                \
+        {"res", "auto", "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis) | NxMxK"},    \
+        {"density", "1.0", "multiplies m in res=auto: > 0"},                                                         \
+        {"insert", "exact", "voxel insertion: exact (prim_overlaps_box) | bbox (bounds overlap)"},                   \
+        {"mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive: on|off"},                      \
+        {"raybox", RAYBOX, "Snyder-Barr ray bounding box per voxel vs primitive bounds: on|off"},                  \
+        {"mtf", MTF, "Woo s5.1-5.2 move-to-front of the voxel list (non-shadow rays): off|hit|almost"},             \
+        {"dynbox", DYN, "Woo s6 dynamic ray box: far end shrinks to the current hit: on|off"},                      \
+        {"voxbox", VOX, "Woo s6 per-voxel box B of the candidates, tested first: on|off"},                         \
+        {"beta", BETA, "Woo s6.2 skip crossing tests when t2-t1 > beta*voxel diagonal; <= 0 disables"},             \
+        {"eyeorigin", "off", "Woo s7.2 eye-relative ray boxes for rays from the camera: on|off"},                  \
+        {"tclip", TCLIP, "Woo s7.3 primitive tests clipped to t > t1 of the voxel: on|off"},                        \
+        {"rayid", "off", "Woo s5.3 two passes, recently tested (ray id within 64) first: off|twopass"},            \
+        {"woo90", WOO90, "Woo s4 [Woo90] bounds check before the primitive test (ray segment vs bounds): on|off"},  \
+        {"memcap", "4096", "MiB: refuse a resolution whose cells and lists exceed it"},                              \
+        {NULL, NULL, NULL},                                                                                          \
+    }
+
+static const accel_param grid_params[] = GRID_PARAM_TABLE("off", "off", "off", "off", "0", "off", "off");
+static const accel_param grid_raybox_params[] = GRID_PARAM_TABLE("on", "almost", "on", "on", "0.75", "on", "on");
+
+typedef struct {
+    accel base;
+    const prims_t *p;
+    int n[3];
+    uint32_t stride[3];
+    uint32_t ncells;
+    size_t nrefs;
+    float *planes[3]; /* [n[a] + 1], one allocation */
+    box3 box;         /* planes[a][0] .. planes[a][n[a]] */
+    box3 clip;        /* box grown by pad: the ray's clip box */
+    float pad;
+    float voxdiag;
+    uint32_t *start, *ids;
+    box3 *vbox;
+    uint8_t *vfull;
+    box3 *relb;
+    vec3 eye;
+    bool exact, mailbox, raybox, dynbox, voxbox, eyeorigin, tclip, rayid, woo90;
+    bool shared_mtf; /* grid-raybox: move-to-front on the shared lists */
+    int mtf;
+    float beta;
+} grid_t;
+
+struct accel_ctx {
+    uint32_t rid;    /* last ray id; 0 = never */
+    uint32_t *stamp; /* [count] last ray id that tested each primitive, or NULL */
+    uint32_t *ids;   /* per-thread list copy (grid with mtf), or NULL */
+};
+
+static inline float get3(vec3 v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
+static inline float maxabs3(vec3 v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fabsf(v.z))); }
+static inline box3 box_pad(box3 b, float e)
+{
+    b.lo = v3_sub(b.lo, v3(e, e, e));
+    b.hi = v3_add(b.hi, v3(e, e, e));
+    return b;
+}
+
+void grid_auto_resolution(box3 box, uint64_t n, double density, int res[3])
+{
+    double s[3] = {0, 0, 0};
+    if (!box_is_empty(box)) {
+        vec3 e = box_extent(box);
+        s[0] = e.x, s[1] = e.y, s[2] = e.z;
+    }
+    double maxs = fmax(s[0], fmax(s[1], s[2]));
+    double m = cbrt((double)n) * density;
+    for (int a = 0; a < 3; a++) {
+        double r = maxs > 0 ? s[a] / maxs * m : 1.0;
+        long v = isfinite(r) ? lround(fmin(r, (double)GRID_AUTO_MAX)) : 1;
+        res[a] = v < 1 ? 1 : v > GRID_AUTO_MAX ? GRID_AUTO_MAX : (int)v;
+    }
+}
+
+/* ---------------------------------------------------------------- build */
+
+/* Cells along axis a that the padded voxels covering [lo, hi] touch. */
+static void cell_span(const grid_t *g, int a, float lo, float hi, int *i0, int *i1)
+{
+    const float *pl = g->planes[a];
+    int n = g->n[a];
+    float inv = (float)n / (pl[n] - pl[0]);
+    float f0 = floorf((lo - pl[0]) * inv), f1 = floorf((hi - pl[0]) * inv);
+    int a0 = f0 < 0 ? 0 : f0 > (float)(n - 1) ? n - 1 : (int)f0;
+    int a1 = f1 < 0 ? 0 : f1 > (float)(n - 1) ? n - 1 : (int)f1;
+    while (a0 > 0 && pl[a0] + g->pad >= lo) a0--;
+    while (a0 < n - 1 && pl[a0 + 1] + g->pad < lo) a0++;
+    while (a1 < n - 1 && pl[a1 + 1] - g->pad <= hi) a1++;
+    while (a1 > 0 && pl[a1] - g->pad > hi) a1--;
+    *i0 = a0, *i1 = a1 < a0 ? a0 : a1;
+}
+
+static inline box3 voxel_box(const grid_t *g, int i, int j, int k)
+{
+    box3 b = {{g->planes[0][i], g->planes[1][j], g->planes[2][k]},
+              {g->planes[0][i + 1], g->planes[1][j + 1], g->planes[2][k + 1]}};
+    return b;
+}
+
+/* One pass over every (primitive, cell) pair the insertion rule accepts:
+ * fill == NULL counts into start[c + 1], else writes ids[start[c]++]. */
+static void insert_pass(grid_t *g, uint32_t *fill)
+{
+    const prims_t *p = g->p;
+    for (uint32_t id = 0; id < p->count; id++) {
+        box3 b = prim_bounds(p, id);
+        if (box_is_empty(b)) continue;
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; a++) cell_span(g, a, get3(b.lo, a), get3(b.hi, a), &lo[a], &hi[a]);
+        for (int k = lo[2]; k <= hi[2]; k++)
+            for (int j = lo[1]; j <= hi[1]; j++)
+                for (int i = lo[0]; i <= hi[0]; i++) {
+                    box3 v = box_pad(voxel_box(g, i, j, k), g->pad);
+                    if (g->exact ? !prim_overlaps_box(p, id, v) : !box_overlap(b, v)) continue;
+                    uint32_t c = (uint32_t)i + g->stride[1] * (uint32_t)j + g->stride[2] * (uint32_t)k;
+                    if (fill) fill[g->start[c]++] = id;
+                    else g->start[c + 1]++;
+                }
+    }
+}
+
+static void grid_destroy(accel *a)
+{
+    grid_t *g = (grid_t *)a;
+    if (!g) return;
+    free(g->planes[0]);
+    free(g->start);
+    free(g->ids);
+    free(g->vbox);
+    free(g->vfull);
+    free(g->relb);
+    free(g);
+}
+
+static accel *grid_build_common(const scene_t *scene, const accel_params *params, char *err, size_t errlen,
+                                bool shared_mtf)
+{
+    static const char *const onoff[] = {"off", "on", NULL};
+    static const char *const inserts[] = {"bbox", "exact", NULL};
+    static const char *const mtfs[] = {"off", "hit", "almost", NULL};
+    static const char *const rayids[] = {"off", "twopass", NULL};
+    int exact, mailbox, raybox, mtf, dynbox, voxbox, eyeorigin, tclip, rayid, woo90;
+    double density, beta;
+    long memcap;
+    if (params_get_double(params, "density", 1e-6, 1e6, &density, err, errlen) ||
+        params_get_choice(params, "insert", inserts, &exact, err, errlen) ||
+        params_get_choice(params, "mailbox", onoff, &mailbox, err, errlen) ||
+        params_get_choice(params, "raybox", onoff, &raybox, err, errlen) ||
+        params_get_choice(params, "mtf", mtfs, &mtf, err, errlen) ||
+        params_get_choice(params, "dynbox", onoff, &dynbox, err, errlen) ||
+        params_get_choice(params, "voxbox", onoff, &voxbox, err, errlen) ||
+        params_get_double(params, "beta", -1e6, 1e6, &beta, err, errlen) ||
+        params_get_choice(params, "eyeorigin", onoff, &eyeorigin, err, errlen) ||
+        params_get_choice(params, "tclip", onoff, &tclip, err, errlen) ||
+        params_get_choice(params, "rayid", rayids, &rayid, err, errlen) ||
+        params_get_choice(params, "woo90", onoff, &woo90, err, errlen) ||
+        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
+        return NULL;
+
+    const prims_t *p = &scene->prims;
+    int res[3];
+    const char *rs = params_get(params, "res");
+    if (strcmp(rs, "auto") == 0) {
+        grid_auto_resolution(p->count ? p->box : box_empty(), p->count, density, res);
+    } else {
+        char extra;
+        if (sscanf(rs, "%dx%dx%d%c", &res[0], &res[1], &res[2], &extra) != 3 || res[0] < 1 || res[1] < 1 ||
+            res[2] < 1 || res[0] > RES_MAX || res[1] > RES_MAX || res[2] > RES_MAX) {
+            snprintf(err, errlen, "res=%s: must be auto or NxMxK with each in 1..%d", rs, RES_MAX);
+            return NULL;
+        }
+    }
+
+    /* Memory cap, first for the cell arrays (before allocating anything). */
+    uint64_t ncells = (uint64_t)res[0] * (uint64_t)res[1] * (uint64_t)res[2];
+    uint64_t cap = (uint64_t)memcap << 20;
+    uint64_t cell_bytes = (ncells + 1) * 4 + (voxbox ? ncells * (sizeof(box3) + 1) : 0);
+    if (ncells >= UINT32_MAX || cell_bytes > cap) {
+        snprintf(err, errlen, "res=%dx%dx%d: %llu cells need %.1f MiB of cell arrays, over memcap=%ld MiB", res[0],
+                 res[1], res[2], (unsigned long long)ncells, (double)cell_bytes / 1048576.0, memcap);
+        return NULL;
+    }
+
+    grid_t *g = calloc(1, sizeof *g);
+    if (!g) goto oom;
+    g->base.scene = scene;
+    g->p = p;
+    g->exact = exact, g->mailbox = mailbox, g->raybox = raybox, g->mtf = mtf, g->dynbox = dynbox;
+    g->voxbox = voxbox, g->eyeorigin = eyeorigin, g->tclip = tclip, g->rayid = rayid, g->woo90 = woo90;
+    g->beta = (float)beta;
+    g->shared_mtf = shared_mtf;
+    g->eye = scene->camera.from;
+    for (int a = 0; a < 3; a++) g->n[a] = res[a];
+    g->ncells = (uint32_t)ncells;
+    g->stride[0] = 1, g->stride[1] = (uint32_t)res[0], g->stride[2] = (uint32_t)res[0] * (uint32_t)res[1];
+
+    /* The grid box: the primitives' bounds, flat axes padded. */
+    box3 b = p->count && !box_is_empty(p->box) ? p->box : (box3){{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}};
+    vec3 e = box_extent(b);
+    float maxe = fmaxf(e.x, fmaxf(e.y, e.z));
+    float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(maxabs3(b.lo), maxabs3(b.hi)));
+    for (int a = 0; a < 3; a++) {
+        float *lo = a == 0 ? &b.lo.x : a == 1 ? &b.lo.y : &b.lo.z;
+        float *hi = a == 0 ? &b.hi.x : a == 1 ? &b.hi.y : &b.hi.z;
+        if (*hi - *lo <= 1e-7f * base) *lo -= 1e-3f * base, *hi += 1e-3f * base;
+    }
+    g->planes[0] = malloc(sizeof(float) * ((size_t)res[0] + res[1] + res[2] + 3));
+    if (!g->planes[0]) goto oom;
+    g->planes[1] = g->planes[0] + res[0] + 1;
+    g->planes[2] = g->planes[1] + res[1] + 1;
+    vec3 cs;
+    for (int a = 0; a < 3; a++) {
+        float lo = get3(b.lo, a), hi = get3(b.hi, a), w = (hi - lo) / (float)res[a];
+        for (int i = 0; i < res[a]; i++) g->planes[a][i] = lo + (float)i * w;
+        g->planes[a][res[a]] = hi;
+        if (a == 0) cs.x = w;
+        else if (a == 1) cs.y = w;
+        else cs.z = w;
+    }
+    g->box = b;
+    g->voxdiag = v3_len(cs);
+    g->pad = 2e-6f * fmaxf(maxabs3(b.lo), maxabs3(b.hi)) + 1e-6f * box_diagonal(b);
+    g->clip = box_pad(b, g->pad);
+
+    g->start = calloc(ncells + 1, sizeof *g->start);
+    if (!g->start) goto oom;
+    if (voxbox) {
+        g->vbox = malloc(ncells * sizeof *g->vbox);
+        g->vfull = calloc(ncells, 1);
+        if (!g->vbox || !g->vfull) goto oom;
+    }
+
+    /* Count, check the cap, fill (start[c] runs as the cursor, then is
+     * shifted back to the cell's begin). */
+    insert_pass(g, NULL);
+    uint64_t nrefs = 0;
+    for (uint64_t c = 0; c < ncells; c++) {
+        nrefs += g->start[c + 1];
+        if (nrefs >= UINT32_MAX) break;
+        g->start[c + 1] = (uint32_t)nrefs;
+    }
+    uint64_t extra_bytes = eyeorigin ? (uint64_t)p->count * sizeof(box3) : 0;
+    if (nrefs >= UINT32_MAX || cell_bytes + nrefs * 4 + extra_bytes > cap) {
+        snprintf(err, errlen, "res=%dx%dx%d: %llu cells and %llu list entries need %.1f MiB, over memcap=%ld MiB",
+                 res[0], res[1], res[2], (unsigned long long)ncells, (unsigned long long)nrefs,
+                 (double)(cell_bytes + nrefs * 4 + extra_bytes) / 1048576.0, memcap);
+        grid_destroy(&g->base);
+        return NULL;
+    }
+    g->nrefs = nrefs;
+    g->ids = malloc((nrefs ? nrefs : 1) * sizeof *g->ids);
+    if (!g->ids) goto oom;
+    insert_pass(g, g->ids);
+    for (uint64_t c = ncells; c > 0; c--) g->start[c] = g->start[c - 1];
+    g->start[0] = 0;
+
+    if (voxbox) {
+        for (int k = 0; k < res[2]; k++)
+            for (int j = 0; j < res[1]; j++)
+                for (int i = 0; i < res[0]; i++) {
+                    uint32_t c = (uint32_t)i + g->stride[1] * (uint32_t)j + g->stride[2] * (uint32_t)k;
+                    box3 v = box_pad(voxel_box(g, i, j, k), g->pad), u = box_empty();
+                    for (uint32_t r = g->start[c]; r < g->start[c + 1]; r++) u = box_union(u, prim_bounds(p, g->ids[r]));
+                    u.lo = v3_max(u.lo, v.lo);
+                    u.hi = v3_min(u.hi, v.hi);
+                    g->vfull[c] = u.lo.x <= v.lo.x && u.lo.y <= v.lo.y && u.lo.z <= v.lo.z && u.hi.x >= v.hi.x &&
+                                  u.hi.y >= v.hi.y && u.hi.z >= v.hi.z;
+                    g->vbox[c] = box_pad(u, g->pad);
+                }
+    }
+    if (eyeorigin) {
+        g->relb = malloc(((size_t)p->count + 1) * sizeof *g->relb);
+        if (!g->relb) goto oom;
+        for (uint32_t id = 0; id < p->count; id++) {
+            box3 r = prim_bounds(p, id);
+            r.lo = v3_sub(r.lo, g->eye);
+            r.hi = v3_sub(r.hi, g->eye);
+            g->relb[id] = box_pad(r, g->pad);
+        }
+    }
+    return &g->base;
+
+oom:
+    snprintf(err, errlen, "out of memory building a %dx%dx%d grid", res[0], res[1], res[2]);
+    grid_destroy(g ? &g->base : NULL);
+    return NULL;
+}
+
+static accel *grid_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+{
+    return grid_build_common(scene, params, err, errlen, false);
+}
+
+static accel *grid_raybox_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+{
+    return grid_build_common(scene, params, err, errlen, true);
+}
+
+/* -------------------------------------------------------------- context */
+
+static accel_ctx *grid_context_new(accel *a)
+{
+    grid_t *g = (grid_t *)a;
+    accel_ctx *ctx = calloc(1, sizeof *ctx);
+    if (!ctx) abort();
+    if (g->mailbox || g->rayid) {
+        ctx->stamp = calloc((size_t)g->p->count + 1, sizeof *ctx->stamp);
+        if (!ctx->stamp) abort();
+    }
+    if (g->mtf != MTF_OFF && !g->shared_mtf) {
+        ctx->ids = malloc((g->nrefs ? g->nrefs : 1) * sizeof *ctx->ids);
+        if (!ctx->ids) abort();
+        memcpy(ctx->ids, g->ids, g->nrefs * sizeof *ctx->ids);
+    }
+    return ctx;
+}
+
+static void grid_context_free(accel_ctx *ctx)
+{
+    if (!ctx) return;
+    free(ctx->stamp);
+    free(ctx->ids);
+    free(ctx);
+}
+
+/* ---------------------------------------------------------------- trace */
+
+typedef struct {
+    float o[3], d[3], inv[3];
+    vec3 org, dir;
+    float pad; /* position slack */
+    float dt;  /* t slack */
+    float thr; /* beta threshold in t units (INFINITY: never skip) */
+    bool eye;  /* origin == camera.from and eyeorigin on */
+} rinfo;
+
+/* Shrink [*t0, *t1] to the part of the ray inside b; false if empty. */
+static inline bool slab(const rinfo *r, const box3 *b, float *t0, float *t1)
+{
+    float a = *t0, z = *t1;
+    const float lo[3] = {b->lo.x, b->lo.y, b->lo.z}, hi[3] = {b->hi.x, b->hi.y, b->hi.z};
+    for (int k = 0; k < 3; k++) {
+        if (r->d[k] == 0.0f) {
+            if (r->o[k] < lo[k] || r->o[k] > hi[k]) return false;
+            continue;
+        }
+        float ta = (lo[k] - r->o[k]) * r->inv[k], tb = (hi[k] - r->o[k]) * r->inv[k];
+        if (ta > tb) {
+            float s = ta;
+            ta = tb, tb = s;
+        }
+        a = fmaxf(a, ta);
+        z = fminf(z, tb);
+    }
+    *t0 = a, *t1 = z;
+    return a <= z;
+}
+
+/* The Snyder-Barr ray box of [t1, t2], padded; eye-relative when r->eye. */
+static inline box3 ray_box(const rinfo *r, float t1, float t2)
+{
+    vec3 p1, p2;
+    if (r->eye) {
+        p1 = v3_scale(r->dir, t1);
+        p2 = v3_scale(r->dir, t2);
+    } else {
+        p1 = v3_madd(r->org, r->dir, t1);
+        p2 = v3_madd(r->org, r->dir, t2);
+    }
+    box3 b = {v3_min(p1, p2), v3_max(p1, p2)};
+    return box_pad(b, r->pad);
+}
+
+/* woo90 / almost-hit: does the segment [t1, t2] pass through the bounds? */
+static inline bool seg_in_bounds(const rinfo *r, box3 b, float t1, float t2)
+{
+    b = box_pad(b, r->pad);
+    float a = t1 - r->dt, z = t2 + r->dt;
+    return slab(r, &b, &a, &z);
+}
+
+static inline void move_front(uint32_t *ids, uint32_t b, uint32_t k)
+{
+    uint32_t id = ids[k];
+    memmove(&ids[b + 1], &ids[b], (size_t)(k - b) * sizeof *ids);
+    ids[b] = id;
+}
+
+/* The walk; shadow is a compile-time constant at both call sites. */
+static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx, const ray_t *ray, hit_t *hit,
+                                                       counters_t *c, const bool shadow)
+{
+    if (!g->nrefs) return false;
+    const prims_t *p = g->p;
+    rinfo r;
+    r.org = ray->org, r.dir = ray->dir;
+    r.o[0] = ray->org.x, r.o[1] = ray->org.y, r.o[2] = ray->org.z;
+    r.d[0] = ray->dir.x, r.d[1] = ray->dir.y, r.d[2] = ray->dir.z;
+    for (int k = 0; k < 3; k++) r.inv[k] = 1.0f / r.d[k];
+
+    c->box_tests++;
+    float t0 = ray->tnear, t1 = ray->tfar;
+    if (!slab(&r, &g->clip, &t0, &t1)) return false;
+
+    r.pad = g->pad + 1e-6f * maxabs3(ray->org);
+    r.dt = r.pad / maxabs3(ray->dir);
+    r.thr = g->beta > 0 ? g->beta * g->voxdiag / v3_len(ray->dir) : INFINITY;
+    r.eye = g->eyeorigin && g->raybox && ray->org.x == g->eye.x && ray->org.y == g->eye.y && ray->org.z == g->eye.z;
+
+    /* Ray id for mailboxes and rayid. */
+    uint32_t *stamp = ctx ? ctx->stamp : NULL, rid = 0;
+    if (stamp) {
+        rid = ++ctx->rid;
+        if (rid == 0) {
+            memset(stamp, 0, (size_t)p->count * sizeof *stamp);
+            rid = ctx->rid = 1;
+        }
+    }
+    uint32_t *ids = ctx && ctx->ids ? ctx->ids : g->ids;
+
+    /* Entry voxel and the next plane per axis. */
+    int idx[3], step[3];
+    float tn[3];
+    uint32_t cell = 0;
+    for (int a = 0; a < 3; a++) {
+        const float *pl = g->planes[a];
+        int n = g->n[a];
+        float pa = r.d[a] == 0.0f ? r.o[a] : r.o[a] + r.d[a] * t0;
+        float f = floorf((pa - pl[0]) * ((float)n / (pl[n] - pl[0])));
+        int i = f < 0 ? 0 : f > (float)(n - 1) ? n - 1 : (int)f;
+        while (i > 0 && pa < pl[i]) i--;
+        while (i < n - 1 && pa >= pl[i + 1]) i++;
+        idx[a] = i;
+        if (r.d[a] > 0) step[a] = 1, tn[a] = (pl[i + 1] - r.o[a]) * r.inv[a];
+        else if (r.d[a] < 0) step[a] = -1, tn[a] = (pl[i] - r.o[a]) * r.inv[a];
+        else step[a] = 0, tn[a] = INFINITY;
+        cell += (uint32_t)i * g->stride[a];
+    }
+
+    ray_t rr = *ray; /* the ray the primitive tests see (tclip raises tnear) */
+    const int npass = g->rayid ? 2 : 1;
+    float tcur = t0;
+    for (;;) {
+        int ax = tn[0] < tn[1] ? (tn[0] < tn[2] ? 0 : 2) : (tn[1] < tn[2] ? 1 : 2);
+        float tout = fminf(tn[ax], t1);
+        if (tout < tcur) tout = tcur;
+        c->steps++;
+        uint32_t b = g->start[cell], e = g->start[cell + 1];
+        if (b == e) {
+            c->empty_leaves++;
+            goto next;
+        }
+        float v1 = tcur, v2 = tout;
+        if (g->voxbox && !g->vfull[cell]) {
+            c->box_tests++;
+            if (!slab(&r, &g->vbox[cell], &v1, &v2)) goto next;
+        }
+        if (g->tclip) rr.tnear = fmaxf(ray->tnear, v1 - (r.dt + 1e-6f * fabsf(v1)));
+        float vh = !shadow && g->dynbox ? fminf(v2, hit->t) : v2; /* far end of the ray box */
+        bool cross = false;
+        box3 rb;
+        if (g->raybox && vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
+        const box3 *bounds = r.eye ? g->relb : p->bounds;
+
+        for (int pass = 0; pass < npass; pass++)
+            for (uint32_t k = b; k < e; k++) {
+                uint32_t id = ids[k];
+                if (stamp) {
+                    uint32_t st = stamp[id];
+                    if (npass == 2) {
+                        bool recent = st != 0 && rid - st < RAYID_WINDOW;
+                        if (pass == 0 ? !recent : recent) continue;
+                    }
+                    if (g->mailbox && st == rid) {
+                        c->mailbox_hits++;
+                        continue;
+                    }
+                }
+                if (cross) {
+                    c->box_tests++;
+                    if (!box_overlap(rb, bounds[id])) continue;
+                }
+                float segf = !shadow ? fminf(v2, hit->t) : v2;
+                if (g->woo90) {
+                    c->box_tests++;
+                    if (!seg_in_bounds(&r, p->bounds[id], v1, segf)) continue;
+                }
+                if (stamp) stamp[id] = rid;
+                if (shadow) {
+                    if (prim_occluded(p, id, &rr, c)) return true;
+                    continue;
+                }
+                if (prim_intersect(p, id, &rr, hit, c)) {
+                    if (g->dynbox && g->raybox) {
+                        vh = fminf(v2, hit->t);
+                        if (vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
+                    }
+                    if (g->mtf != MTF_OFF) move_front(ids, b, k);
+                } else if (g->mtf == MTF_ALMOST) {
+                    bool almost = g->woo90;
+                    if (!almost) {
+                        c->box_tests++;
+                        almost = seg_in_bounds(&r, p->bounds[id], v1, segf);
+                    }
+                    if (almost) move_front(ids, b, k);
+                }
+            }
+    next:
+        if (!shadow && hit->t <= tout) break;
+        if (tn[ax] >= t1) break;
+        idx[ax] += step[ax];
+        if ((unsigned)idx[ax] >= (unsigned)g->n[ax]) break;
+        cell = step[ax] > 0 ? cell + g->stride[ax] : cell - g->stride[ax];
+        tcur = tout;
+        tn[ax] = (g->planes[ax][idx[ax] + (step[ax] > 0)] - r.o[ax]) * r.inv[ax];
+    }
+    return !shadow && hit->prim != HIT_NONE;
+}
+
+static bool grid_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
+{
+    return walk((grid_t *)a, ctx, ray, hit, c, false);
+}
+
+static bool grid_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+{
+    return walk((grid_t *)a, ctx, ray, NULL, c, true);
+}
+
+static size_t grid_memory(const accel *a)
+{
+    const grid_t *g = (const grid_t *)a;
+    size_t m = sizeof *g + ((size_t)g->ncells + 1) * 4 + g->nrefs * 4;
+    m += sizeof(float) * ((size_t)g->n[0] + g->n[1] + g->n[2] + 3);
+    if (g->vbox) m += (size_t)g->ncells * (sizeof(box3) + 1);
+    if (g->relb) m += (size_t)g->p->count * sizeof(box3);
+    return m;
+}
+
+/* ---------------------------------------------------------------- debug */
+
+void grid_debug_dims(const accel *a, int res[3])
+{
+    const grid_t *g = (const grid_t *)a;
+    for (int k = 0; k < 3; k++) res[k] = g->n[k];
+}
+
+const uint32_t *grid_debug_cell(const accel *a, int i, int j, int k, uint32_t *count)
+{
+    const grid_t *g = (const grid_t *)a;
+    uint32_t c = (uint32_t)i + g->stride[1] * (uint32_t)j + g->stride[2] * (uint32_t)k;
+    *count = g->start[c + 1] - g->start[c];
+    return g->ids + g->start[c];
+}
+
+uint64_t grid_debug_list_hash(const accel *a)
+{
+    const grid_t *g = (const grid_t *)a;
+    uint64_t h = 1469598103934665603ull;
+    for (size_t r = 0; r < g->nrefs; r++) {
+        h ^= g->ids[r];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+const struct accel_ops accel_grid = {
+    .version = 1,
+    .name = "grid",
+    .summary = "uniform grid, Amanatides-Woo 3DDDA, mailboxes, no ray boxes (Woo switches available, off)",
+    .paper = "Amanatides & Woo, Eurographics 1987; Arvo & Kirk 1989 survey s5.2-5.3; grid size Woo GI 1992 s8.2",
+    .params = grid_params,
+    .flags = 0,
+    .build = grid_build,
+    .context_new = grid_context_new,
+    .context_free = grid_context_free,
+    .intersect = grid_intersect,
+    .occluded = grid_occluded,
+    .memory = grid_memory,
+    .destroy = grid_destroy,
+};
+
+const struct accel_ops accel_grid_raybox = {
+    .version = 1,
+    .name = "grid-raybox",
+    .summary = "uniform grid with Snyder-Barr ray boxes and Woo's 1992 optimisations (move-to-front mutates)",
+    .paper = "Woo, Ray Tracing Polygons using Spatial Subdivision, GI 1992, s4-s8; Snyder & Barr 1987",
+    .params = grid_raybox_params,
+    .flags = ACCEL_MUTATES,
+    .build = grid_raybox_build,
+    .context_new = grid_context_new,
+    .context_free = grid_context_free,
+    .intersect = grid_intersect,
+    .occluded = grid_occluded,
+    .memory = grid_memory,
+    .destroy = grid_destroy,
+};

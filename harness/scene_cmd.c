@@ -1,0 +1,88 @@
+/* scene_cmd.c: looking at scenes without tracing them.
+ *
+ *   accelbench scene info SCENE [SCENE ...]   counts by kind, bounds, lights, view, geometry hash
+ *   accelbench scene export SCENE --nff FILE  write the scene as NFF (exact %.9g round trip) */
+#include "scene_cmd.h"
+
+#include <inttypes.h>
+#include <stdio.h>
+#include <string.h>
+#include "../scenes/nff.h"
+#include "../scenes/scene.h"
+#include "trace.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: accelbench scene info SCENE [SCENE ...]\n"
+            "       accelbench scene export SCENE --nff FILE\n"
+            "  info    primitive counts by kind, bounds, lights, view and a hash of the primitives\n"
+            "          (the same hash for the same geometry, whatever file or generator it came from)\n"
+            "  export  write the scene as NFF; reading it back gives the same hash\n");
+}
+
+static void print_info(const scene_t *s, double load_ms)
+{
+    const prims_t *p = &s->prims;
+    const camera_t *c = &s->camera;
+    printf("scene      %s\n", s->name);
+    printf("source     %s\n", s->source);
+    printf("primitives %u: %u triangles (%u degenerate), %u spheres, %u cones, %u polygons; %u vertices\n", p->count,
+           p->ntris, p->ndegenerate, p->nspheres, p->ncones, p->npolygons, p->nverts);
+    printf("bounds     (%g %g %g) .. (%g %g %g), diagonal %g\n", s->bounds.lo.x, s->bounds.lo.y, s->bounds.lo.z,
+           s->bounds.hi.x, s->bounds.hi.y, s->bounds.hi.z, box_diagonal(s->bounds));
+    printf("view       from (%g %g %g) at (%g %g %g) up (%g %g %g) angle %g hither %g resolution %dx%d\n", c->from.x,
+           c->from.y, c->from.z, c->at.x, c->at.y, c->at.z, c->up.x, c->up.y, c->up.z, c->fov_deg, c->hither, c->width,
+           c->height);
+    printf("lights     %u:", s->nlights);
+    for (uint32_t i = 0; i < s->nlights; i++) printf(" (%g %g %g)", s->lights[i].x, s->lights[i].y, s->lights[i].z);
+    printf("\nmaterials  %u\n", s->nmaterials);
+    printf("memory     %zu bytes in the primitive store\n", prims_memory(p));
+    printf("hash       %016" PRIx64 "\n", scene_geometry_hash(s));
+    printf("load_ms    %.1f\n", load_ms);
+}
+
+int scene_cmd_main(int argc, char **argv)
+{
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    char err[512];
+    if (!strcmp(argv[1], "info")) {
+        if (argc < 3) {
+            fprintf(stderr, "accelbench scene info: name a scene (see accelbench list scenes)\n");
+            return 2;
+        }
+        for (int i = 2; i < argc; i++) {
+            double t0 = clock_ms();
+            scene_t *s = scene_load(argv[i], err, sizeof err);
+            if (!s) {
+                fprintf(stderr, "accelbench: %s\n", err);
+                return 2;
+            }
+            if (i > 2) printf("\n");
+            print_info(s, clock_ms() - t0);
+            scene_free(s);
+        }
+        return 0;
+    }
+    if (!strcmp(argv[1], "export")) {
+        if (argc != 5 || strcmp(argv[3], "--nff")) {
+            fprintf(stderr, "accelbench scene export: usage: accelbench scene export SCENE --nff FILE\n");
+            return 2;
+        }
+        scene_t *s = scene_load(argv[2], err, sizeof err);
+        if (!s) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            return 2;
+        }
+        int rc = scene_write_nff(s, argv[4], err, sizeof err);
+        if (rc) fprintf(stderr, "accelbench: %s\n", err);
+        else printf("wrote %s: %u primitives, hash %016" PRIx64 "\n", argv[4], s->prims.count, scene_geometry_hash(s));
+        scene_free(s);
+        return rc ? 2 : 0;
+    }
+    fprintf(stderr, "accelbench scene: unknown action '%s' (info or export)\n", argv[1]);
+    return 2;
+}
