@@ -44,7 +44,7 @@ void options_usage(FILE *out, const char *cmd)
     fprintf(out,
             "usage: accelbench %s --scenes LIST --accels LIST --workloads LIST [options]\n"
             "  LIST is comma-separated; see `accelbench list` for the names.\n"
-            "  --scenes LIST           scene names: spd:balls:3, spd:balls:2:t, bunny, a mesh path ...\n"
+            "  --scenes LIST           scene names: spd:balls:3, spd:gears:2:t, bunny, set:medium, a file ...\n"
             "  --accels LIST           accelerators (default: all; verify: all but embree)\n"
             "  --workloads LIST        primary,shadow,reflection,diffuse,random (default: all)\n"
             "  --param ACCEL.KEY=VALUE set an accelerator parameter (repeatable)\n"
@@ -159,9 +159,34 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         switch (c) {
         case 's': {
             char *dup = strdup(optarg);
-            int n = split(dup, o->scenes + o->nscenes, OPT_LIST_MAX - o->nscenes, "scenes");
+            const char *items[OPT_LIST_MAX];
+            int n = split(dup, items, OPT_LIST_MAX, "scenes");
             if (n < 0) return 2;
-            o->nscenes += n;
+            for (int i = 0; i < n; i++) {
+                /* A set name (set:medium, set:scaling:balls ...) stands for its scenes. */
+                char expanded[4096];
+                int set = scene_set_expand(items[i], expanded, sizeof expanded);
+                if (set < 0) {
+                    fprintf(stderr, "accelbench: --scenes: set '%s' is too long to expand\n", items[i]);
+                    return 2;
+                }
+                const char *one[1] = {items[i]};
+                const char **list = one;
+                const char *parts[OPT_LIST_MAX];
+                int m = 1;
+                if (set == 1) {
+                    m = split(strdup(expanded), parts, OPT_LIST_MAX, "scenes");
+                    if (m < 0) return 2;
+                    list = parts;
+                }
+                for (int k = 0; k < m; k++) {
+                    if (o->nscenes == OPT_LIST_MAX) {
+                        fprintf(stderr, "accelbench: too many scenes (at most %d)\n", OPT_LIST_MAX);
+                        return 2;
+                    }
+                    o->scenes[o->nscenes++] = list[k];
+                }
+            }
             break;
         }
         case 'a': accels_arg = optarg; break;

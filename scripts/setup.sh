@@ -11,7 +11,7 @@ PACKAGES=(
     libcgal-dev                                        # CGAL: AABB-tree peer and exact judge (coming)
     libassimp-dev libarchive-dev libpng-dev            # mesh loading, compressed files, PNG output
     python3-matplotlib                                 # plots from the CSV
-    libcgal-demo glmark2-data occt-misc                # benchmark meshes (bunny, dragon, head ...)
+    libcgal-demo glmark2-data occt-misc openfoam-examples  # benchmark meshes (bunny, dragon, head, motorbike ...)
 )
 
 missing=()

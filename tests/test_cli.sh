@@ -99,6 +99,19 @@ h1=$(cut -d, -f9 "$T/replay/matrix.csv" | tail -1); h2=$(cut -d, -f9 "$T/direct/
 a1=$(cut -d, -f24-25 "$T/replay/matrix.csv" | tail -1); a2=$(cut -d, -f24-25 "$T/direct/matrix.csv" | tail -1)
 [ "$a1" = "$a2" ] && ok || bad "replayed agreement $a1 != direct $a2"
 
+# --- scene info and NFF export: the round trip keeps the geometry hash
+expect 0 "primitives 1169: 0 triangles .* 1169 polygons" -- "$AB" scene info spd:gears:2
+expect 0 "wrote $T/g.nff" -- "$AB" scene export spd:gears:2 --nff "$T/g.nff"
+h_gen=$("$AB" scene info spd:gears:2 | awk '/^hash/ {print $2}')
+h_nff=$("$AB" scene info "$T/g.nff" | awk '/^hash/ {print $2}')
+[ -n "$h_gen" ] && [ "$h_gen" = "$h_nff" ] && ok || bad "NFF round trip hash $h_gen != $h_nff"
+expect 0 "spd:tree:2 +primary +exhaustive +[0-9]+ +[0-9]+ +0 +0 +0 +0" -- "$AB" verify --scenes spd:tree:2 --workloads primary --res 16x16
+printf 's 0 0 0 1\np 3\n0 0 0\n1 0 0\n' > "$T/bad.nff"
+expect 2 "$T/bad.nff:4:" -- "$AB" scene info "$T/bad.nff"
+expect 2 "usage: accelbench scene export" -- "$AB" scene export spd:balls:1
+expect 2 "is a set of scenes" -- "$AB" scene info set:spd
+expect 0 "spd:tree:11 +primary" -- "$AB" verify --scenes set:spd --workloads primary --res 4x4 --accels exhaustive
+
 # --- render and heat maps
 expect 0 "wrote $T/img.png" -- "$AB" render --scene spd:balls:2 --accel exhaustive --res 48x48 --out "$T/img.png"
 expect 0 "tests per pixel" -- "$AB" render --scene spd:balls:2 --accel exhaustive --res 32x32 --heatmap tests --out "$T/heat.png"
