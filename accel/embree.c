@@ -82,11 +82,13 @@ static void embree_destroy(accel *a)
     free(e);
 }
 
-static int add_triangles(embree_accel *e, const prims_t *p)
+/* A triangle geometry over the scene's vertex array with the given index
+ * triples (the triangles themselves, or the polygons' ear-clipping). */
+static int add_triangle_geometry(embree_accel *e, const prims_t *p, const tri_t *tris, uint32_t ntris, unsigned geom_id)
 {
     RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), p->nverts);
-    unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), p->ntris);
+    unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), ntris);
     if (!v || !ix) {
         rtcReleaseGeometry(g);
         return -1;
@@ -96,9 +98,9 @@ static int add_triangles(embree_accel *e, const prims_t *p)
         v[3 * i + 1] = p->verts[i].y;
         v[3 * i + 2] = p->verts[i].z;
     }
-    memcpy(ix, p->tris, (size_t)p->ntris * sizeof *p->tris);
+    memcpy(ix, tris, (size_t)ntris * sizeof *tris);
     rtcCommitGeometry(g);
-    rtcAttachGeometryByID(e->scene, g, 0);
+    rtcAttachGeometryByID(e->scene, g, geom_id);
     rtcReleaseGeometry(g);
     return 0;
 }
@@ -119,27 +121,6 @@ static int add_spheres(embree_accel *e, const prims_t *p)
     }
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(e->scene, g, 1);
-    rtcReleaseGeometry(g);
-    return 0;
-}
-
-static int add_polygons(embree_accel *e, const prims_t *p)
-{
-    RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), p->nverts);
-    unsigned *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), p->npoly_tris);
-    if (!v || !ix) {
-        rtcReleaseGeometry(g);
-        return -1;
-    }
-    for (uint32_t i = 0; i < p->nverts; i++) {
-        v[3 * i + 0] = p->verts[i].x;
-        v[3 * i + 1] = p->verts[i].y;
-        v[3 * i + 2] = p->verts[i].z;
-    }
-    memcpy(ix, p->poly_tris, (size_t)p->npoly_tris * sizeof *p->poly_tris);
-    rtcCommitGeometry(g);
-    rtcAttachGeometryByID(e->scene, g, 2);
     rtcReleaseGeometry(g);
     return 0;
 }
@@ -259,8 +240,8 @@ static accel *embree_build(const scene_t *scene, const accel_params *params, cha
         if (k != id) e->ids_identity = false;
     }
 
-    if ((p->ntris && add_triangles(e, p)) || (p->nspheres && add_spheres(e, p)) ||
-        (p->npoly_tris && add_polygons(e, p)) || (p->ncones && add_cones(e, p))) {
+    if ((p->ntris && add_triangle_geometry(e, p, p->tris, p->ntris, 0)) || (p->nspheres && add_spheres(e, p)) ||
+        (p->npoly_tris && add_triangle_geometry(e, p, p->poly_tris, p->npoly_tris, 2)) || (p->ncones && add_cones(e, p))) {
         snprintf(err, errlen, "embree geometry: %s", e->error[0] ? e->error : "buffer allocation failed");
         embree_destroy(&e->base);
         return NULL;
