@@ -141,16 +141,50 @@ static bool accel_runs_workload(const struct accel_ops *ops, query_kind q)
     return !(ops->flags & ACCEL_SHADOW_ONLY) || q == QUERY_ANY;
 }
 
-static accel *build_accel(const accel_config *ac, const scene_t *s, double *ms, char *err, size_t errlen)
+/* Build ac over s, timed; a failure is reported on stderr and gives NULL. */
+static accel *build_accel(const accel_config *ac, const scene_t *s, double *ms)
 {
+    char err[512];
     double t0 = clock_ms();
-    accel *a = ac->ops->build(s, &ac->params, err, errlen);
+    accel *a = ac->ops->build(s, &ac->params, err, sizeof err);
     *ms = clock_ms() - t0;
-    if (a) {
-        a->ops = ac->ops;
-        a->scene = s;
+    if (!a) {
+        fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
+        return NULL;
     }
+    a->ops = ac->ops;
+    a->scene = s;
     return a;
+}
+
+/* Accelerators that reorder themselves while tracing run on one thread. */
+static int threads_for(const accel_config *ac, const options *o)
+{
+    return (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads;
+}
+
+/* Load scene number si and build its reference; errors go to stderr and
+ * give NULL. */
+static scene_t *open_scene(const options *o, int si, accel **ref)
+{
+    char err[512];
+    double t0 = clock_ms();
+    scene_t *s = scene_load(o->scenes[si], err, sizeof err);
+    if (!s) {
+        fprintf(stderr, "accelbench: %s\n", err);
+        return NULL;
+    }
+    if (!o->quiet)
+        fprintf(stderr, "scene %s: %u primitives (%u triangles, %u spheres, %u cones, %u polygons), loaded in %.0f ms\n",
+                s->name, s->prims.count, s->prims.ntris, s->prims.nspheres, s->prims.ncones, s->prims.npolygons,
+                clock_ms() - t0);
+    *ref = build_reference(s, o->threads, err, sizeof err);
+    if (!*ref) {
+        fprintf(stderr, "accelbench: %s: reference build failed: %s\n", s->name, err);
+        scene_free(s);
+        return NULL;
+    }
+    return s;
 }
 
 static void run_plots(const char *csv_path, bool quiet)
@@ -197,19 +231,9 @@ int matrix_run(options *o)
     int total = o->nscenes * o->nworkloads * o->naccels, done = 0, status = 0;
     double wall0 = clock_ms();
     for (int si = 0; si < o->nscenes; si++) {
-        double t0 = clock_ms();
-        scene_t *s = scene_load(o->scenes[si], err, sizeof err);
+        accel *ref;
+        scene_t *s = open_scene(o, si, &ref);
         if (!s) {
-            fprintf(stderr, "accelbench: %s\n", err);
-            status = 2;
-            break;
-        }
-        if (!o->quiet) fprintf(stderr, "scene %s: %u primitives (%u triangles, %u spheres), loaded in %.0f ms\n", s->name,
-                               s->prims.count, s->prims.ntris, s->prims.nspheres, clock_ms() - t0);
-        accel *ref = build_reference(s, o->threads, err, sizeof err);
-        if (!ref) {
-            fprintf(stderr, "accelbench: %s: reference build failed: %s\n", s->name, err);
-            scene_free(s);
             status = 2;
             break;
         }
@@ -229,13 +253,12 @@ int matrix_run(options *o)
                 done++;
                 if (!accel_runs_workload(ac->ops, in.rs->query)) continue;
                 double build_ms;
-                accel *a = build_accel(ac, s, &build_ms, err, sizeof err);
+                accel *a = build_accel(ac, s, &build_ms);
                 if (!a) {
-                    fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
                     status = 2;
                     break;
                 }
-                int threads = (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads;
+                int threads = threads_for(ac, o);
                 answers_t *got = answers_new(in.rs, false);
                 double warm_ms = trace_rayset(a, in.rs, threads, got); /* warm-up: answers and counters */
                 verify_result vr;
@@ -322,23 +345,14 @@ static void print_mismatch(const scene_t *s, const rayset_t *rs, const mismatch_
 
 int matrix_verify(options *o)
 {
-    char err[512];
     int status = 0;
     bool any_real = false;
     printf("%-22s %-11s %-24s %9s %9s %6s %6s %8s %6s\n", "scene", "workload", "accel", "rays", "agree", "edge", "tol",
            "refwrong", "real");
     for (int si = 0; si < o->nscenes && !status; si++) {
-        scene_t *s = scene_load(o->scenes[si], err, sizeof err);
-        if (!s) {
-            fprintf(stderr, "accelbench: %s\n", err);
-            return 2;
-        }
-        accel *ref = build_reference(s, o->threads, err, sizeof err);
-        if (!ref) {
-            fprintf(stderr, "accelbench: %s: reference build failed: %s\n", s->name, err);
-            scene_free(s);
-            return 2;
-        }
+        accel *ref;
+        scene_t *s = open_scene(o, si, &ref);
+        if (!s) return 2;
         int nw = o->rays_file ? 1 : o->nworkloads;
         for (int wi = 0; wi < nw && !status; wi++) {
             cell_input in;
@@ -356,14 +370,13 @@ int matrix_verify(options *o)
                 const accel_config *ac = &o->accels[ai];
                 if (!accel_runs_workload(ac->ops, in.rs->query)) continue;
                 double build_ms;
-                accel *a = build_accel(ac, s, &build_ms, err, sizeof err);
+                accel *a = build_accel(ac, s, &build_ms);
                 if (!a) {
-                    fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
                     status = 2;
                     break;
                 }
                 answers_t *got = answers_new(in.rs, false);
-                trace_rayset(a, in.rs, (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads, got);
+                trace_rayset(a, in.rs, threads_for(ac, o), got);
                 verify_result vr;
                 verify_answers(s, in.rs, got, in.ref, &vr);
                 const char *label = ac->label;
