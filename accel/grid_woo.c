@@ -89,6 +89,10 @@
  *                    ray's own tnear: hits before the voxel (or before B)
  *                    are rejected inside prims/ (a hit there would lie in an
  *                    earlier voxel, where the primitive was already tested).
+ *                    Here the running tHit already holds every earlier hit,
+ *                    so tclip changes no answer and no counter (the test
+ *                    still runs and counts); it is Woo's step (2) bound,
+ *                    measurable only as time.
  *   rayid=off|twopass  off / off: Woo s5.3: two passes over the voxel's list,
  *                    first the primitives whose last-tested ray id (the
  *                    mailbox array; allocated also when mailbox=off) is
@@ -216,8 +220,14 @@ struct accel_ctx {
     uint32_t *ids;   /* per-thread list copy (grid with mtf), or NULL */
 };
 
+/* fminf/fmaxf are libm calls without -ffast-math; these are inline and,
+ * like them, ignore a NaN in the second argument. */
+static inline float minf(float a, float b) { return b < a ? b : a; }
+static inline float maxf(float a, float b) { return b > a ? b : a; }
+static inline vec3 vmin(vec3 a, vec3 b) { return v3(minf(a.x, b.x), minf(a.y, b.y), minf(a.z, b.z)); }
+static inline vec3 vmax(vec3 a, vec3 b) { return v3(maxf(a.x, b.x), maxf(a.y, b.y), maxf(a.z, b.z)); }
 static inline float get3(vec3 v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
-static inline float maxabs3(vec3 v) { return fmaxf(fabsf(v.x), fmaxf(fabsf(v.y), fabsf(v.z))); }
+static inline float maxabs3(vec3 v) { return maxf(fabsf(v.x), maxf(fabsf(v.y), fabsf(v.z))); }
 static inline box3 box_pad(box3 b, float e)
 {
     b.lo = v3_sub(b.lo, v3(e, e, e));
@@ -377,15 +387,14 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     if (!g->planes[0]) goto oom;
     g->planes[1] = g->planes[0] + res[0] + 1;
     g->planes[2] = g->planes[1] + res[1] + 1;
-    vec3 cs;
+    float w[3];
     for (int a = 0; a < 3; a++) {
-        float lo = get3(b.lo, a), hi = get3(b.hi, a), w = (hi - lo) / (float)res[a];
-        for (int i = 0; i < res[a]; i++) g->planes[a][i] = lo + (float)i * w;
+        float lo = get3(b.lo, a), hi = get3(b.hi, a);
+        w[a] = (hi - lo) / (float)res[a];
+        for (int i = 0; i < res[a]; i++) g->planes[a][i] = lo + (float)i * w[a];
         g->planes[a][res[a]] = hi;
-        if (a == 0) cs.x = w;
-        else if (a == 1) cs.y = w;
-        else cs.z = w;
     }
+    vec3 cs = v3(w[0], w[1], w[2]);
     g->box = b;
     g->voxdiag = v3_len(cs);
     g->pad = 2e-6f * fmaxf(maxabs3(b.lo), maxabs3(b.hi)) + 1e-6f * box_diagonal(b);
@@ -518,8 +527,8 @@ static inline bool slab(const rinfo *r, const box3 *b, float *t0, float *t1)
             float s = ta;
             ta = tb, tb = s;
         }
-        a = fmaxf(a, ta);
-        z = fminf(z, tb);
+        a = maxf(a, ta);
+        z = minf(z, tb);
     }
     *t0 = a, *t1 = z;
     return a <= z;
@@ -536,7 +545,7 @@ static inline box3 ray_box(const rinfo *r, float t1, float t2)
         p1 = v3_madd(r->org, r->dir, t1);
         p2 = v3_madd(r->org, r->dir, t2);
     }
-    box3 b = {v3_min(p1, p2), v3_max(p1, p2)};
+    box3 b = {vmin(p1, p2), vmax(p1, p2)};
     return box_pad(b, r->pad);
 }
 
@@ -570,6 +579,10 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
     c->box_tests++;
     float t0 = ray->tnear, t1 = ray->tfar;
     if (!slab(&r, &g->clip, &t0, &t1)) return false;
+    /* Counted locally (prim_intersect may write *c, so the compiler could
+     * not keep them in registers) and added to *c at the end. */
+    uint64_t nbox = 0, nsteps = 0, nempty = 0, nmbox = 0;
+    bool occluded = false;
 
     r.pad = g->pad + 1e-6f * maxabs3(ray->org);
     r.dt = r.pad / maxabs3(ray->dir);
@@ -611,21 +624,21 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
     float tcur = t0;
     for (;;) {
         int ax = tn[0] < tn[1] ? (tn[0] < tn[2] ? 0 : 2) : (tn[1] < tn[2] ? 1 : 2);
-        float tout = fminf(tn[ax], t1);
+        float tout = minf(tn[ax], t1);
         if (tout < tcur) tout = tcur;
-        c->steps++;
+        nsteps++;
         uint32_t b = g->start[cell], e = g->start[cell + 1];
         if (b == e) {
-            c->empty_leaves++;
+            nempty++;
             goto next;
         }
         float v1 = tcur, v2 = tout;
         if (g->voxbox && !g->vfull[cell]) {
-            c->box_tests++;
+            nbox++;
             if (!slab(&r, &g->vbox[cell], &v1, &v2)) goto next;
         }
-        if (g->tclip) rr.tnear = fmaxf(ray->tnear, v1 - (r.dt + 1e-6f * fabsf(v1)));
-        float vh = !shadow && g->dynbox ? fminf(v2, hit->t) : v2; /* far end of the ray box */
+        if (g->tclip) rr.tnear = maxf(ray->tnear, v1 - (r.dt + 1e-6f * fabsf(v1)));
+        float vh = !shadow && g->dynbox ? minf(v2, hit->t) : v2; /* far end of the ray box */
         bool cross = false;
         box3 rb;
         if (g->raybox && vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
@@ -641,34 +654,37 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
                         if (pass == 0 ? !recent : recent) continue;
                     }
                     if (g->mailbox && st == rid) {
-                        c->mailbox_hits++;
+                        nmbox++;
                         continue;
                     }
                 }
                 if (cross) {
-                    c->box_tests++;
+                    nbox++;
                     if (!box_overlap(rb, bounds[id])) continue;
                 }
-                float segf = !shadow ? fminf(v2, hit->t) : v2;
+                float segf = !shadow ? minf(v2, hit->t) : v2;
                 if (g->woo90) {
-                    c->box_tests++;
+                    nbox++;
                     if (!seg_in_bounds(&r, p->bounds[id], v1, segf)) continue;
                 }
                 if (stamp) stamp[id] = rid;
                 if (shadow) {
-                    if (prim_occluded(p, id, &rr, c)) return true;
+                    if (prim_occluded(p, id, &rr, c)) {
+                        occluded = true;
+                        goto out;
+                    }
                     continue;
                 }
                 if (prim_intersect(p, id, &rr, hit, c)) {
                     if (g->dynbox && g->raybox) {
-                        vh = fminf(v2, hit->t);
+                        vh = minf(v2, hit->t);
                         if (vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
                     }
                     if (g->mtf != MTF_OFF) move_front(ids, b, k);
                 } else if (g->mtf == MTF_ALMOST) {
                     bool almost = g->woo90;
                     if (!almost) {
-                        c->box_tests++;
+                        nbox++;
                         almost = seg_in_bounds(&r, p->bounds[id], v1, segf);
                     }
                     if (almost) move_front(ids, b, k);
@@ -683,7 +699,12 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
         tcur = tout;
         tn[ax] = (g->planes[ax][idx[ax] + (step[ax] > 0)] - r.o[ax]) * r.inv[ax];
     }
-    return !shadow && hit->prim != HIT_NONE;
+out:
+    c->box_tests += nbox;
+    c->steps += nsteps;
+    c->empty_leaves += nempty;
+    c->mailbox_hits += nmbox;
+    return shadow ? occluded : hit->prim != HIT_NONE;
 }
 
 static bool grid_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)

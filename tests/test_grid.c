@@ -84,18 +84,6 @@ static const config_t configs[] = {
 
 static int threads_for(const accel *a) { return (a->ops->flags & ACCEL_MUTATES) ? 1 : 2; }
 
-/* The reference: Embree, unless the scene holds primitive kinds the Embree
- * wrapper does not load (cones, polygons: e.g. the sphereflake's floor
- * quad), where the exhaustive accelerator stands in for it. */
-static accel *reference(const scene_t *s, int threads)
-{
-    const prims_t *p = &s->prims;
-    if (p->ntris + p->nspheres == p->count) return test_build("embree", s, threads);
-    printf("%s: %u primitives Embree does not load; exhaustive is the reference\n", s->name,
-           p->count - p->ntris - p->nspheres);
-    return test_build("exhaustive", s, threads);
-}
-
 /* Check one accelerator's answers on one ray set. */
 static void check_answers_min(const char *what, const scene_t *s, const rayset_t *rs, const answers_t *got,
                               const answers_t *want, uint64_t per_mille)
@@ -136,7 +124,7 @@ static void check_extra(const char *what, const scene_t *s, const rayset_t *rs, 
 /* Every config on every workload of a scene (plus the extra ray sets). */
 static void check_scene(scene_t *s, int res, rayset_t **extra, int nextra)
 {
-    accel *ref = reference(s, 2);
+    accel *ref = test_build("embree", s, 2);
     workload_opts o = test_wl(res, res, 2);
     rayset_t *sets[8];
     answers_t *want[8];
@@ -274,7 +262,7 @@ static void test_squares(void)
     rayset_t *extra[2] = {axis_rays(QUERY_CLOSEST), axis_rays(QUERY_ANY)};
     check_scene(s, 32, extra, 2);
     /* And on a grid whose planes are exactly the squares' planes. */
-    accel *ref = reference(s, 1);
+    accel *ref = test_build("embree", s, 1);
     const char *cfgs[][2] = {{"grid", "res=4x4x4"}, {"grid-raybox", "res=4x4x4"},
                              {"grid-raybox", "res=4x4x4,eyeorigin=on,rayid=twopass"}, {"grid", "res=8x8x8,tclip=on"}};
     accel *ex = test_build("exhaustive", s, 1);
@@ -425,7 +413,7 @@ static void test_memcap_and_extremes(void)
     a = build_cfg("grid", s, "mtf=sometimes", err, sizeof err);
     CHECK(a == NULL && strstr(err, "mtf"));
 
-    accel *ref = reference(s, 2);
+    accel *ref = test_build("embree", s, 2);
     workload_opts o = test_wl(32, 32, 2);
     const char *cfgs[][2] = {{"grid", "res=1x1x1"}, {"grid-raybox", "res=1x1x1"},
                              {"grid", "res=200x200x200"}, {"grid-raybox", "res=200x200x200"}};
@@ -456,7 +444,7 @@ static void test_flat(void)
     add_square(s, 2, 3, 1, 1);
     char err[256];
     CHECK(scene_finish(s, false, err, sizeof err) == 0);
-    accel *ref = reference(s, 1);
+    accel *ref = test_build("embree", s, 1);
     workload_opts o = test_wl(24, 24, 1);
     for (int w = 0; workload_table[w].name; w++) {
         rayset_t *rs = workload_table[w].make(s, ref, &o);
