@@ -1,26 +1,20 @@
 #!/usr/bin/python3
-"""Plot an accelbench results CSV as PNG figures.
+"""Plot an accelbench results CSV as PNG figures (written next to the CSV).
 
-Reads the tidy CSV written by the C harness (one row per scene, accelerator
-with params, workload and thread count) and writes, for every scene:
-
-  <scene>__mrays.png      Mrays/s per workload and accelerator, with min/max
-                          error bars from trace_ms_min / trace_ms_max
-  <scene>__tests.png      tests_per_ray per workload (plus steps_per_ray when
-                          any accelerator reports steps); accelerators with
-                          empty counter fields (e.g. embree) are left out
+Per scene (name made file-safe: ':' '/' etc. -> '_'):
+  <scene>__mrays.png      Mrays/s per workload x accelerator, min-max error bars
+  <scene>__tests.png      tests_per_ray (+ steps_per_ray panel if any nonzero);
+                          accelerators with empty counters (embree) omitted
   <scene>__build_mem.png  build_ms and bytes_per_prim per accelerator
+Once per file:
+  overview__ratio.png     ratio_vs_embree, geometric mean over workloads,
+                          scene x accelerator heat map (>1 = slower than Embree)
 
-and once for the whole file:
-
-  overview__ratio.png     geometric mean over workloads of ratio_vs_embree,
-                          scene x accelerator (>1 = slower than Embree)
-
-Scene names are made file-name safe (':' '/' etc. become '_'). A bar is
-labelled "accel" when that accel has a single params string in the file,
-else "accel[params]" (and "@<n>t" when several thread counts occur).
-Rows with fewer fields than the header (an interrupted run) are skipped
-with a warning. Exit status 2 for a missing file or missing columns.
+Bars are labelled "accel", or "accel[params]" when an accel has several
+params strings in the file (keys shared by all of them dropped), plus
+"@<n>t" when it ran with several thread counts. Rows with fewer fields than
+the header (interrupted run) are skipped with a warning. Exit status 2 for
+a missing file or a CSV without the required columns.
 """
 import argparse
 import csv
@@ -61,7 +55,11 @@ def load_rows(path):
     """Read the CSV into a list of dicts, skipping short/long rows."""
     if not os.path.isfile(path):
         fail(f"{path}: no such file")
-    with open(path, newline="", encoding="utf-8", errors="replace") as f:
+    try:
+        f = open(path, newline="", encoding="utf-8", errors="replace")
+    except OSError as e:
+        fail(f"{path}: {e.strerror}")
+    with f:
         reader = csv.reader(f)
         header = [h.strip() for h in next(reader, [])]
         missing = [c for c in REQUIRED if c not in header]
@@ -80,29 +78,53 @@ def load_rows(path):
     return rows
 
 
-def short_params(params):
-    """Shorten a long params string for use in a legend label."""
-    return params if len(params) <= MAX_PARAMS else params[:MAX_PARAMS - 1] + "…"
+def split_params(params):
+    """'a=1,b=x,y,c=2' -> ['a=1', 'b=x,y', 'c=2'] (a comma not before 'key=' stays in the value)."""
+    parts = []
+    for piece in params.split(","):
+        if parts and "=" not in piece:
+            parts[-1] += "," + piece
+        else:
+            parts.append(piece)
+    return [p for p in parts if p]
+
+
+def short_params(params, siblings):
+    """Params minus the key=value pairs shared by all siblings, cut to MAX_PARAMS."""
+    common = set.intersection(*(set(split_params(p)) for p in siblings))
+    text = ",".join(p for p in split_params(params) if p not in common) or params or "-"
+    return text if len(text) <= MAX_PARAMS else text[:MAX_PARAMS - 1] + "…"
 
 
 def config_labels(rows):
-    """Map each (accel, params, threads) config to its display label."""
+    """Map each (accel, params, threads) config to a unique display label."""
     params_of, threads_of = {}, {}
     for r in rows:
-        params_of.setdefault(r["accel"], set()).add(r.get("params", ""))
-        threads_of.setdefault((r["accel"], r.get("params", "")), set()).add(
-            r.get("threads", ""))
+        accel, params, threads = config_key(r)
+        params_of.setdefault(accel, {})[params] = None
+        threads_of.setdefault((accel, params), {})[threads] = None
     labels = {}
-    for r in rows:
-        key = config_key(r)
+    for key in ordered(config_key(r) for r in rows):
         accel, params, threads = key
         label = accel
         if len(params_of[accel]) > 1:
-            label += f"[{short_params(params)}]"
+            label += f"[{short_params(params, params_of[accel])}]"
         if len(threads_of[(accel, params)]) > 1:
             label += f"@{threads}t"
-        labels.setdefault(key, label)
+        while label in labels.values():
+            label += "'"
+        labels[key] = label
     return labels
+
+
+def color_of(labels, cfg):
+    """Stable colour for a config: its position in the file-wide label order."""
+    return f"C{list(labels).index(cfg) % 10}"
+
+
+def outside_legend(ax):
+    """Legend to the right of the axes, so it never hides bars."""
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
 
 
 def config_key(row):
@@ -138,19 +160,11 @@ def save(fig, path, written):
     written.append(path)
 
 
-def maybe_log(ax, values):
-    """Switch the y axis to log scale when positive values span > LOG_SPAN."""
+def maybe_log(ax, values, axis="y"):
+    """Switch an axis to log scale when positive values span > LOG_SPAN."""
     pos = [v for v in values if v is not None and v > 0]
     if pos and max(pos) / min(pos) > LOG_SPAN:
-        ax.set_yscale("log")
-
-
-def mrays_errors(row, mrays):
-    """Lower/upper error bar lengths in Mrays/s from trace_ms_max/min."""
-    rays, tmin, tmax = num(row.get("rays")), num(row.get("trace_ms_min")), num(row.get("trace_ms_max"))
-    if not rays or not tmin or not tmax:
-        return 0.0, 0.0
-    return max(0.0, mrays - rays / tmax / 1000.0), max(0.0, rays / tmin / 1000.0 - mrays)
+        (ax.set_yscale if axis == "y" else ax.set_xscale)("log")
 
 
 def grouped_bars(ax, table, workloads, configs, labels, errors=None):
@@ -169,7 +183,7 @@ def grouped_bars(ax, table, workloads, configs, labels, errors=None):
             lo.append(e[0])
             hi.append(e[1])
         drawn += ys
-        ax.bar(xs, ys, width, label=labels[cfg], color=f"C{i % 10}",
+        ax.bar(xs, ys, width, label=labels[cfg], color=color_of(labels, cfg),
                yerr=[lo, hi] if errors else None, capsize=2, error_kw={"lw": 0.8})
     ax.set_xticks(range(len(workloads)), workloads)
     ax.set_xlabel("workload")
@@ -199,16 +213,18 @@ def plot_mrays(scene, rows, labels, workloads, configs, path, written):
     table, errors = {}, {}
     for r in rows:
         key = (config_key(r), r["workload"])
-        v = num(r["mrays_per_s"])
-        if v is None and num(r["rays"]) and num(r["trace_ms"]):
-            v = num(r["rays"]) / num(r["trace_ms"]) / 1000.0
-        if v is not None and key not in table:
-            table[key], errors[key] = v, mrays_errors(r, v)
-    fig, ax = plt.subplots(figsize=(max(7, 1.2 * len(workloads) * max(1, len(configs)) ** 0.5), 4.8))
+        rays, t, tmin, tmax = (num(r.get(c)) for c in ("rays", "trace_ms", "trace_ms_min", "trace_ms_max"))
+        v = num(r["mrays_per_s"]) or (rays / t / 1000.0 if rays and t else None)
+        if v is None or key in table:
+            continue
+        table[key] = v
+        errors[key] = ((max(0.0, v - rays / tmax / 1000.0), max(0.0, rays / tmin / 1000.0 - v))
+                       if rays and tmin and tmax else (0.0, 0.0))
+    fig, ax = plt.subplots(figsize=(max(10, 1.6 * len(workloads) + 3), 4.8))
     grouped_bars(ax, table, workloads, configs, labels, errors)
     ax.set_ylabel("throughput [Mrays/s]")
     ax.set_title(scene_title(scene, rows, "Ray throughput (median, min–max)"))
-    ax.legend(fontsize=8, ncol=2)
+    outside_legend(ax)
     footer(fig, rows)
     save(fig, path, written)
 
@@ -221,45 +237,44 @@ def plot_tests(scene, rows, labels, workloads, configs, path, written):
         return
     show_steps = any(v > 0 for v in steps.values())
     fig, axes = plt.subplots(1, 2 if show_steps else 1, squeeze=False,
-                             figsize=(13 if show_steps else 7, 4.8))
+                             figsize=(14 if show_steps else 10, 4.8))
     ax = axes[0][0]
     grouped_bars(ax, tests, workloads, with_tests, labels)
     ax.set_ylabel("primitive tests per ray")
     ax.set_title(scene_title(scene, rows, "Intersection tests"))
-    ax.legend(fontsize=8)
     if show_steps:
         ax = axes[0][1]
         grouped_bars(ax, steps, workloads, with_tests, labels)
         ax.set_ylabel("traversal steps per ray")
         ax.set_title(scene_title(scene, rows, "Traversal steps"))
-        ax.legend(fontsize=8)
+    outside_legend(axes[0][-1])
     footer(fig, rows)
     save(fig, path, written)
 
 
 def plot_build_mem(scene, rows, labels, configs, path, written):
-    """Two panels: build_ms and bytes_per_prim, one bar per config."""
+    """Two panels: build_ms and bytes_per_prim, one horizontal bar per config."""
     first = {}
     for r in rows:
         first.setdefault(config_key(r), r)
-    fig, axes = plt.subplots(1, 2, figsize=(max(9, 1.1 * len(configs) + 4), 4.8))
-    for ax, col, ylabel, what in ((axes[0], "build_ms", "build time [ms]", "Build time"),
+    fig, axes = plt.subplots(1, 2, sharey=True, figsize=(12, max(3.5, 0.45 * len(configs) + 2)))
+    ys = list(range(len(configs)))
+    for ax, col, xlabel, what in ((axes[0], "build_ms", "build time [ms]", "Build time"),
                                   (axes[1], "bytes_per_prim", "memory [bytes/prim]", "Memory")):
         vals = [num(first[c].get(col)) for c in configs]
-        xs = range(len(configs))
-        bars = ax.bar(xs, [v or 0 for v in vals], color=[f"C{i % 10}" for i in xs])
-        for b, c, v in zip(bars, configs, vals):
-            b.set_label(labels[c])
-            if v is not None:
-                ax.annotate(f"{v:.3g}", (b.get_x() + b.get_width() / 2, v),
-                            ha="center", va="bottom", fontsize=7)
-        ax.set_xticks(list(xs), [labels[c] for c in configs], rotation=30, ha="right")
-        ax.set_xlabel("accelerator")
-        ax.set_ylabel(ylabel)
-        ax.grid(axis="y", alpha=0.3, which="both")
-        maybe_log(ax, vals)
+        for y, c, v in zip(ys, configs, vals):
+            ax.barh(y, v or 0, color=color_of(labels, c), label=labels[c])
+            ax.annotate(" n/a" if v is None else f" {v:.3g}", (v or 0, y),
+                        ha="left", va="center", fontsize=7)
+        ax.set_xlabel(xlabel)
+        ax.grid(axis="x", alpha=0.3, which="both")
+        maybe_log(ax, vals, "x")
+        ax.margins(x=0.15)
         ax.set_title(scene_title(scene, rows, what))
-    axes[1].legend(fontsize=8)
+    axes[0].set_yticks(ys, [labels[c] for c in configs])
+    axes[0].invert_yaxis()
+    axes[0].set_ylabel("accelerator")
+    outside_legend(axes[1])
     footer(fig, rows)
     save(fig, path, written)
 
@@ -280,7 +295,7 @@ def plot_overview(rows, labels, scenes, path, written):
     if not vals:
         return
     span = max(max(vals), 1 / min(vals), 1.01)
-    fig, ax = plt.subplots(figsize=(max(6, 1.3 * len(configs) + 3), max(3, 0.6 * len(scenes) + 2.2)))
+    fig, ax = plt.subplots(figsize=(max(6, 1.3 * len(configs) + 3), max(3.5, 0.6 * len(scenes) + 3)))
     im = ax.imshow([[v if v else float("nan") for v in line] for line in grid],
                    cmap="RdYlGn_r", norm=LogNorm(1 / span, span), aspect="auto")
     for i, line in enumerate(grid):
@@ -294,10 +309,20 @@ def plot_overview(rows, labels, scenes, path, written):
     ax.set_yticks(range(len(scenes)), [f"{s} ({prims[s]} prims)" for s in scenes])
     ax.set_xlabel("accelerator")
     ax.set_ylabel("scene")
-    ax.set_title("trace time / Embree trace time (geo. mean over workloads; >1 = slower)")
+    ax.set_title("Trace time relative to Embree, same rays\n"
+                 "(geometric mean over workloads; >1 = slower than Embree)")
     fig.colorbar(im, ax=ax, label="ratio vs Embree [×]")
     footer(fig, rows)
     save(fig, path, written)
+
+
+def plot_scene(scene, rows, labels, workloads, base, written):
+    """Write the three per-scene figures to <base>__*.png."""
+    wls = [w for w in workloads if any(r["workload"] == w for r in rows)]
+    cfgs = ordered(config_key(r) for r in rows)
+    plot_mrays(scene, rows, labels, wls, cfgs, base + "__mrays.png", written)
+    plot_tests(scene, rows, labels, wls, cfgs, base + "__tests.png", written)
+    plot_build_mem(scene, rows, labels, cfgs, base + "__build_mem.png", written)
 
 
 def parse_args(argv):
@@ -331,12 +356,7 @@ def main(argv=None):
         while stem in stems:
             stem += "_"
         stems.add(stem)
-        wls = [w for w in workloads if any(r["workload"] == w for r in srows)]
-        cfgs = ordered(config_key(r) for r in srows)
-        base = os.path.join(out, stem)
-        plot_mrays(scene, srows, labels, wls, cfgs, base + "__mrays.png", written)
-        plot_tests(scene, srows, labels, wls, cfgs, base + "__tests.png", written)
-        plot_build_mem(scene, srows, labels, cfgs, base + "__build_mem.png", written)
+        plot_scene(scene, srows, labels, workloads, os.path.join(out, stem), written)
     plot_overview(rows, labels, scenes, os.path.join(out, "overview__ratio.png"), written)
     if not args.quiet:
         print("\n".join(written))
