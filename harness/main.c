@@ -4,6 +4,7 @@
  *   accelbench run     --scenes L --accels L --workloads L [...]   benchmark matrix -> CSV + plots
  *   accelbench verify  --scenes L --accels L --workloads L [...]   agreement with Embree
  *   accelbench render  --scene S --accel A --out FILE.png [...]    image or cost heat map
+ *   accelbench reproduce woo92 [--out DIR] [--quick] [...]          a paper's tables with our numbers
  *
  * Exit status: 0 success, 1 verify found a real mismatch, 2 bad input. */
 #include <stdio.h>
@@ -11,6 +12,7 @@
 #include "matrix.h"
 #include "options.h"
 #include "render.h"
+#include "reproduce.h"
 #include "scene_cmd.h"
 #include "version.h"
 
@@ -24,6 +26,7 @@ static void usage(FILE *out)
             "  run      benchmark matrix: scenes x accels x workloads -> DIR/matrix.csv and plots\n"
             "  verify   every ray's answer against Embree; mismatches classified and replayable\n"
             "  render   a shaded image or a per-pixel cost heat map through one accelerator\n"
+            "  reproduce woo92   Woo 1992's Tables 1-4 and an ablation, re-run: our numbers, verified\n"
             "  scene    info SCENE (counts, bounds, view, hash) | export SCENE --nff FILE\n"
             "  version  the build's git revision\n"
             "\n"
@@ -88,6 +91,7 @@ int main(int argc, char **argv)
     }
     if (!strcmp(cmd, "list")) return cmd_list(argc - 1, argv + 1);
     if (!strcmp(cmd, "scene")) return scene_cmd_main(argc - 1, argv + 1);
+    if (!strcmp(cmd, "reproduce")) return reproduce_main(argc - 1, argv + 1);
     int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? matrix_verify
                                                             : !strcmp(cmd, "render") ? render_main : NULL;
     if (!run) {

@@ -10,57 +10,13 @@
 #include <time.h>
 #include "csv.h"
 #include "machine.h"
+#include "measure.h"
 #include "trace.h"
 #include "verify.h"
 
 #ifndef ACCELBENCH_SOURCE_DIR
 #define ACCELBENCH_SOURCE_DIR "."
 #endif
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-typedef struct { double median, min, max; int passes; } timing;
-
-/* A timed sample should last at least this long, so that clock resolution
- * and thread start-up do not dominate small ray sets: a sample traces the
- * set `passes` times, calibrated from the warm-up, and is reported per pass. */
-#define SAMPLE_MIN_MS 20.0
-#define PASSES_MAX 1000
-
-/* Time `repeat` samples (after the caller's warm-up, which took warm_ms)
- * and summarise them per pass. */
-static timing time_traces(accel *a, const rayset_t *rs, int threads, int repeat, double warm_ms, answers_t *scratch)
-{
-    timing t;
-    t.passes = warm_ms >= SAMPLE_MIN_MS ? 1 : warm_ms <= SAMPLE_MIN_MS / PASSES_MAX ? PASSES_MAX
-                                                                                    : (int)ceil(SAMPLE_MIN_MS / warm_ms);
-    double *ms = calloc((size_t)repeat, sizeof *ms);
-    if (!ms) abort();
-    for (int k = 0; k < repeat; k++) ms[k] = trace_rayset_passes(a, rs, threads, t.passes, scratch) / t.passes;
-    qsort(ms, (size_t)repeat, sizeof *ms, cmp_double);
-    t.median = repeat % 2 ? ms[repeat / 2] : 0.5 * (ms[repeat / 2 - 1] + ms[repeat / 2]);
-    t.min = ms[0];
-    t.max = ms[repeat - 1];
-    free(ms);
-    return t;
-}
-
-static int mkdir_p(const char *path)
-{
-    char buf[1024];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1; *p; p++)
-        if (*p == '/') {
-            *p = 0;
-            if (mkdir(buf, 0777) && errno != EEXIST) return -1;
-            *p = '/';
-        }
-    return mkdir(buf, 0777) && errno != EEXIST ? -1 : 0;
-}
 
 /* The scene-and-workload part of a cell: the ray set and the reference's answers. */
 typedef struct {
@@ -69,19 +25,6 @@ typedef struct {
     accel *ref_accel;
     double ref_warm_ms; /* the reference trace that made ref: the warm-up of its timing */
 } cell_input;
-
-static const struct accel_ops *reference_ops(void) { return accel_find("embree"); }
-
-static accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen)
-{
-    const struct accel_ops *ops = reference_ops();
-    accel_params p;
-    params_defaults(&p, ops->params);
-    p.threads = threads;
-    accel *a = ops->build(s, &p, err, errlen);
-    if (a) a->ops = ops;
-    return a;
-}
 
 static int save_rays(const options *o, const rayset_t *rs, int nsets)
 {
@@ -139,22 +82,6 @@ static void cell_release(cell_input *in)
 static bool accel_runs_workload(const struct accel_ops *ops, query_kind q)
 {
     return !(ops->flags & ACCEL_SHADOW_ONLY) || q == QUERY_ANY;
-}
-
-/* Build ac over s, timed; a failure is reported on stderr and gives NULL. */
-static accel *build_accel(const accel_config *ac, const scene_t *s, double *ms)
-{
-    char err[512];
-    double t0 = clock_ms();
-    accel *a = ac->ops->build(s, &ac->params, err, sizeof err);
-    *ms = clock_ms() - t0;
-    if (!a) {
-        fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
-        return NULL;
-    }
-    a->ops = ac->ops;
-    a->scene = s;
-    return a;
 }
 
 /* Accelerators that reorder themselves while tracing run on one thread. */

@@ -118,5 +118,17 @@ expect 0 "tests per pixel" -- "$AB" render --scene spd:balls:2 --accel exhaustiv
 expect 2 "does not expose its counters" -- "$AB" render --scene spd:balls:2 --accel embree --res 32x32 --heatmap tests --out "$T/h2.png"
 [ "$(head -c 4 "$T/img.png" | tail -c 3)" = "PNG" ] && ok || bad "render output is not a PNG"
 
+# --- reproduce woo92 (quick): tables, tidy CSV, plots, every cell verified
+expect 0 "verified: 0 real mismatches" -- "$AB" reproduce woo92 --quick --out "$T/woo" --quiet
+[ "$(head -1 "$T/woo/woo92.csv" | cut -d, -f1-5)" = "table,variant,grid_res,scene,prims" ] && ok || bad "woo92.csv header"
+[ "$(grep -c '^table[1-4],\|^ablation,' "$T/woo/woo92.csv")" -gt 40 ] && ok || bad "woo92.csv has too few rows"
+for t in "Table 1" "Table 2" "Table 3" "Table 4" "Ablation" "finding:"; do
+    grep -q "$t" "$T/woo/woo92_tables.md" 2>/dev/null && ok || bad "woo92_tables.md lacks '$t'"
+done
+ls "$T"/woo/woo92_*.png > /dev/null 2>&1 && ok || bad "reproduce woo92 wrote no PNG"
+expect 2 "unknown experiment 'nope'" -- "$AB" reproduce nope
+expect 0 "woo92.*--quick|--quick" -- "$AB" reproduce --help
+expect 2 "usage: accelbench reproduce" -- "$AB" reproduce
+
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

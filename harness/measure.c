@@ -1,0 +1,72 @@
+/* measure.c: timing, building and folders shared by run and reproduce
+ * (see measure.h). Moved unchanged from matrix.c. */
+#include "measure.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+timing time_traces(accel *a, const rayset_t *rs, int threads, int repeat, double warm_ms, answers_t *scratch)
+{
+    timing t;
+    t.passes = warm_ms >= SAMPLE_MIN_MS ? 1 : warm_ms <= SAMPLE_MIN_MS / PASSES_MAX ? PASSES_MAX
+                                                                                    : (int)ceil(SAMPLE_MIN_MS / warm_ms);
+    double *ms = calloc((size_t)repeat, sizeof *ms);
+    if (!ms) abort();
+    for (int k = 0; k < repeat; k++) ms[k] = trace_rayset_passes(a, rs, threads, t.passes, scratch) / t.passes;
+    qsort(ms, (size_t)repeat, sizeof *ms, cmp_double);
+    t.median = repeat % 2 ? ms[repeat / 2] : 0.5 * (ms[repeat / 2 - 1] + ms[repeat / 2]);
+    t.min = ms[0];
+    t.max = ms[repeat - 1];
+    free(ms);
+    return t;
+}
+
+int mkdir_p(const char *path)
+{
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++)
+        if (*p == '/') {
+            *p = 0;
+            if (mkdir(buf, 0777) && errno != EEXIST) return -1;
+            *p = '/';
+        }
+    return mkdir(buf, 0777) && errno != EEXIST ? -1 : 0;
+}
+
+static const struct accel_ops *reference_ops(void) { return accel_find("embree"); }
+
+accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen)
+{
+    const struct accel_ops *ops = reference_ops();
+    accel_params p;
+    params_defaults(&p, ops->params);
+    p.threads = threads;
+    accel *a = ops->build(s, &p, err, errlen);
+    if (a) a->ops = ops;
+    return a;
+}
+
+accel *build_accel(const accel_config *ac, const scene_t *s, double *ms)
+{
+    char err[512];
+    double t0 = clock_ms();
+    accel *a = ac->ops->build(s, &ac->params, err, sizeof err);
+    *ms = clock_ms() - t0;
+    if (!a) {
+        fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
+        return NULL;
+    }
+    a->ops = ac->ops;
+    a->scene = s;
+    return a;
+}
