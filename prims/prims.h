@@ -121,9 +121,10 @@ size_t prims_memory(const prims_t *p);
 /* Bounds and exact overlap: triangle/box by the separating axis test
  * (Akenine-Moller 2001), sphere/box by Arvo's closest-point distance,
  * polygon/box as "one of its ear-clipping triangles overlaps" (exact for
- * simple polygons), cone/box exact up to a margin of about 1e-13 of the
- * coordinates' magnitude (see cone.c: it may say true for a box that
- * misses the surface by less than that, never false for one touching it).
+ * simple polygons), cone/box exact up to a margin of 64 DBL_EPSILON (about
+ * 1.4e-14) times the largest coordinate magnitude involved (see cone.c: it
+ * may say true for a box that misses the surface by less than that, never
+ * false for one touching it).
  * Touching counts as overlapping, so a primitive lying exactly on a voxel
  * plane is in both voxels. Cone bounds are those of its two end discs. */
 static inline box3 prim_bounds(const prims_t *p, uint32_t id) { return p->bounds[id]; }

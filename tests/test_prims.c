@@ -8,7 +8,9 @@
  * boundary distances.
  *
  * Build: gcc -O2 -std=gnu11 -Wall -Wextra -D_GNU_SOURCE -o /tmp/test_prims \
- *   tests/test_prims.c prims/prims.c prims/triangle.c prims/sphere.c prims/overlap.c -lm
+ *   tests/test_prims.c prims/prims.c prims/triangle.c prims/sphere.c prims/cone.c \
+ *   prims/polygon.c prims/overlap.c -lm
+ * (Cones, polygons and polygon_triangulate are tested in test_prims_shapes.c.)
  * Random inputs come from a fixed seed, so every run tests the same rays. */
 #include "../prims/prims.h"
 #include "../prims/prims_internal.h"

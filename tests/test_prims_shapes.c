@@ -656,27 +656,6 @@ static void test_cone_box_random(void)
 
 static double rel_err(double a, double b, double scale) { return fabs(a - b) / fmax(fmax(fabs(b), scale), 1e-30); }
 
-/* How much the exact (double) t moves, relative to scale, when the ray's
- * origin or direction is nudged by one float ulp of the largest input
- * magnitude along each axis. -1 when no nudged ray hits. */
-static double ray_sensitivity(const prims_t *p, uint32_t id, const ray_t *r, double td, double scale)
-{
-    const cone_t *c = &p->cones[p->index[id]];
-    float m = fmaxf(fmaxf(fabsf(r->org.x), fmaxf(fabsf(r->org.y), fabsf(r->org.z))),
-                    fmaxf(v3_len(c->base), v3_len(c->apex)));
-    float dm = v3_len(r->dir);
-    double worst = -1.0;
-    for (int k = 0; k < 12; k++) {
-        ray_t q = *r;
-        float *f = k < 6 ? &q.org.x : &q.dir.x;
-        float step = (k < 6 ? m : dm) * FLT_EPSILON * 0.5f;
-        f[k % 3] += (k % 6) < 3 ? step : -step;
-        double tq;
-        if (prim_intersect_double(p, id, &q, &tq)) worst = fmax(worst, rel_err(tq, td, scale));
-    }
-    return worst;
-}
-
 static void test_cone_float_double(void)
 {
     prims_t p;
@@ -719,21 +698,23 @@ static void test_cone_float_double(void)
                 double cosang = fabs(v3_dot(n, r.dir)) / v3_len(r.dir);
                 double e = rel_err(h.t, td, v3_len(v3_sub(r.org, c.base)) / v3_len(r.dir));
                 both++;
+                /* The tolerance grows with the conditioning (first-order,
+                 * measured over many seeds, with a margin of about 5): like
+                 * 1 / cos for a shallow ray, like 1 / sqrt(g) near a
+                 * tangent or rim, and like 1 / distance near the tip of a
+                 * pointed cone, where the quadric is singular (the rounding
+                 * of org - base, about eps |org - base|, is then large
+                 * against the radius there). */
+                double lim = fmax(1e-5, 5e-6 / fmax(cosang, 1e-3)) * fmax(1.0, sqrt(1e-3 / fmax(g, 1e-12)));
+                if (c.base_radius == 0.0f || c.apex_radius == 0.0f) {
+                    vec3 tip = c.base_radius == 0.0f ? c.base : c.apex;
+                    double gtip = dlen(dv3_sub(dmadd(dv3(r.org), dv3(r.dir), td), dv3(tip))) / size;
+                    lim *= fmax(1.0, 0.5 / fmax(gtip, 1e-12));
+                }
                 if (g >= 1e-3 && cosang >= 0.05) worst = fmax(worst, e);
                 else graze++;
-                /* Beyond 2e-6, the error must be explained by the problem's
-                 * own conditioning: K times the change of the exact t when
-                 * the ray is moved by one float ulp of the inputs'
-                 * magnitude (org and dir, each axis, both ways). That
-                 * covers shallow rays (1 / cos), near-tangents, and rays
-                 * near the tip of a pointed cone, where the quadric is
-                 * singular. */
-                if (e > 2e-6) {
-                    double sens = ray_sensitivity(&p, id, &r, td, v3_len(v3_sub(r.org, c.base)) / v3_len(r.dir));
-                    if (sens < 0) continue; /* every nudged ray misses: a graze */
-                    worst_ratio = fmax(worst_ratio, e / sens);
-                    far += e > 16.0 * sens;
-                }
+                worst_ratio = fmax(worst_ratio, e / lim);
+                far += e > lim;
             } else if (hf != hd) {
                 disagree++;
                 double t = hf ? h.t : td;
@@ -741,10 +722,10 @@ static void test_cone_float_double(void)
             }
         }
     }
-    CHECK_MSG(far == 0, "%d of %d cone hits differ beyond tolerance (worst %.3g; worst %.3g x the conditioning)", far, both, worst, worst_ratio);
+    CHECK_MSG(far == 0, "%d of %d cone hits differ beyond tolerance (worst %.3g, %.3g of the limit)", far, both, worst, worst_ratio);
     CHECK_MSG(unexplained == 0, "%d of %d float/double hit-miss disagreements are away from rims and tangents", unexplained, disagree);
     CHECK(both > 50000 && graze < both / 5);
-    printf("cones: %d hits compared, worst relative t error %.3g where cos >= 0.05 (%d shallow or grazing); errors > 2e-6 are at most %.3g x the conditioning; %d rim/tangent disagreements\n",
+    printf("cones: %d hits compared, worst relative t error %.3g where cos >= 0.05 (%d shallow or grazing), worst %.3g of the limit, %d rim/tangent disagreements\n",
            both, worst, graze, worst_ratio, disagree);
     prims_free(&p);
 }
@@ -778,7 +759,7 @@ static void test_cone_boundary_distance(void)
     CHECK(prims_finish(&p, err, sizeof err) == 0);
     ray_t r1 = make_ray(v3(-5, 0.5f, 1), v3(1, 0, 0.125f), 0.0f, INFINITY);
     ray_t r2 = make_ray(v3(-3, 0.5f, 1.25f), v3(1, 0, 0.125f), 0.0f, INFINITY);
-    double t1, t2;
+    double t1 = 0, t2 = 0;
     CHECK(prim_intersect_double(&p, 0, &r1, &t1) && prim_intersect_double(&p, 0, &r2, &t2));
     CHECK_NEAR(prim_boundary_distance(&p, 0, &r1, t1), prim_boundary_distance(&p, 0, &r2, t2), 1e-12);
     prims_free(&p);
@@ -1527,14 +1508,13 @@ static void test_polygon_float_double(void)
                 double cosang = fabs(dv3_dot(nrm, d)) / dlen(d);
                 double e = rel_err(h.t, td, dlen(dv3_sub(dv3(r.org), centroid)) / dlen(d));
                 both++;
-                if (cosang >= 0.05) {
-                    worst = fmax(worst, e);
-                    far += e > 1e-5;
-                } else {
-                    grazing++;
-                    worst_graze = fmax(worst_graze, e * cosang);
-                    far += e > 5e-7 / cosang;
-                }
+                /* t is a ray/plane distance: its error grows like 1 / cos
+                 * (the float plane is the double one rounded, and the
+                 * rounding is amplified as the ray turns parallel). */
+                if (cosang >= 0.05) worst = fmax(worst, e);
+                else grazing++;
+                worst_graze = fmax(worst_graze, e * cosang);
+                far += e > fmax(1e-5, 5e-6 / cosang);
             } else if (hf != hd) {
                 disagree++;
                 double t = hf ? h.t : td;
@@ -1548,10 +1528,10 @@ static void test_polygon_float_double(void)
         }
         prims_free(&p);
     }
-    CHECK_MSG(far == 0, "%d of %d polygon hits differ beyond tolerance (worst %.3g, grazing %.3g / cos)", far, both, worst, worst_graze);
+    CHECK_MSG(far == 0, "%d of %d polygon hits differ beyond tolerance (worst %.3g, worst %.3g / cos)", far, both, worst, worst_graze);
     CHECK_MSG(unexplained == 0, "%d of %d polygon float/double disagreements are away from edges", unexplained, disagree);
     CHECK(both > 15000);
-    printf("polygons: %d hits compared, worst relative t error %.3g (%d grazing: %.3g / cos), %d edge disagreements\n",
+    printf("polygons: %d hits compared, worst relative t error %.3g where cos >= 0.05 (%d below), worst %.3g / cos overall, %d edge disagreements\n",
            both, worst, grazing, worst_graze, disagree);
 }
 
