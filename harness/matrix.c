@@ -7,16 +7,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include "csv.h"
 #include "machine.h"
 #include "measure.h"
 #include "trace.h"
 #include "verify.h"
 
-#ifndef ACCELBENCH_SOURCE_DIR
-#define ACCELBENCH_SOURCE_DIR "."
-#endif
 
 /* The scene-and-workload part of a cell: the ray set and the reference's answers. */
 typedef struct {
@@ -114,33 +110,12 @@ static scene_t *open_scene(const options *o, int si, accel **ref)
     return s;
 }
 
-static void run_plots(const char *csv_path, bool quiet)
-{
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s/scripts/plot.py' '%s' %s", ACCELBENCH_SOURCE_DIR, csv_path,
-             quiet ? "--quiet" : "");
-    int rc = system(cmd);
-    if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
-}
-
 int matrix_run(options *o)
 {
     machine_info mi;
     machine_describe(&mi);
     char out_dir[1024], csv_path[1100], err[512];
-    if (o->out) snprintf(out_dir, sizeof out_dir, "%s", o->out);
-    else {
-        char stamp[32];
-        time_t now = time(NULL);
-        struct tm tm;
-        gmtime_r(&now, &tm);
-        strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
-        snprintf(out_dir, sizeof out_dir, "results/%s", stamp);
-    }
-    if (mkdir_p(out_dir)) {
-        fprintf(stderr, "accelbench: %s: cannot create output folder: %s\n", out_dir, strerror(errno));
-        return 2;
-    }
+    if (output_folder(o->out, "", out_dir, sizeof out_dir)) return 2;
     snprintf(csv_path, sizeof csv_path, "%s/matrix.csv", out_dir);
     FILE *csv = csv_open(csv_path, err, sizeof err);
     if (!csv) {
@@ -222,7 +197,7 @@ int matrix_run(options *o)
     }
     fclose(csv);
     if (!o->quiet) fprintf(stderr, "wrote %s (%d cells, %.1f s)\n", csv_path, done, (clock_ms() - wall0) / 1e3);
-    if (o->plots && status == 0) run_plots(csv_path, o->quiet);
+    if (o->plots && status == 0) run_plot_script("plot.py", csv_path, o->quiet);
     return status;
 }
 

@@ -2,6 +2,12 @@
  * (see measure.h). Moved unchanged from matrix.c. */
 #include "measure.h"
 
+#ifndef ACCELBENCH_SOURCE_DIR
+#define ACCELBENCH_SOURCE_DIR "."
+#endif
+#include <string.h>
+#include <time.h>
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -69,4 +75,31 @@ accel *build_accel(const accel_config *ac, const scene_t *s, double *ms)
     a->ops = ac->ops;
     a->scene = s;
     return a;
+}
+
+int output_folder(const char *given, const char *prefix, char *out, size_t outlen)
+{
+    if (given) snprintf(out, outlen, "%s", given);
+    else {
+        char stamp[32];
+        time_t now = time(NULL);
+        struct tm tm;
+        gmtime_r(&now, &tm);
+        strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
+        snprintf(out, outlen, "results/%s%s", prefix, stamp);
+    }
+    if (mkdir_p(out)) {
+        fprintf(stderr, "accelbench: %s: cannot create output folder: %s\n", out, strerror(errno));
+        return 2;
+    }
+    return 0;
+}
+
+void run_plot_script(const char *script, const char *csv_path, bool quiet)
+{
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s/scripts/%s' '%s' %s", ACCELBENCH_SOURCE_DIR, script, csv_path,
+             quiet ? "--quiet" : "");
+    int rc = system(cmd);
+    if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
 }

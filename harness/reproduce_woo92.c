@@ -46,7 +46,6 @@
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include "../accel/grid_woo.h"
 #include "csv.h"
 #include "machine.h"
@@ -56,9 +55,6 @@
 #include "verify.h"
 #include "workload.h"
 
-#ifndef ACCELBENCH_SOURCE_DIR
-#define ACCELBENCH_SOURCE_DIR "."
-#endif
 
 /* ------------------------------------------------------------ the set-up */
 
@@ -897,15 +893,6 @@ static int parse(rp_opts *o, int argc, char **argv)
     return 0;
 }
 
-static void run_plots(const char *csv_path, bool quiet)
-{
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s/scripts/plot_woo92.py' '%s' %s", ACCELBENCH_SOURCE_DIR, csv_path,
-             quiet ? "--quiet" : "");
-    int rc = system(cmd);
-    if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
-}
-
 static int reproduce_woo92(int argc, char **argv)
 {
     rp_run *r = &R;
@@ -916,19 +903,7 @@ static int reproduce_woo92(int argc, char **argv)
                        : (rp_config){512, 512, 640, 480, {40, 50, 60, 70}, {15, 20, 30}, {1, 4, 9}};
     machine_describe(&r->mi);
     char out_dir[1024], path[1200];
-    if (r->o.out) snprintf(out_dir, sizeof out_dir, "%s", r->o.out);
-    else {
-        char stamp[32];
-        time_t now = time(NULL);
-        struct tm tm;
-        gmtime_r(&now, &tm);
-        strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
-        snprintf(out_dir, sizeof out_dir, "results/woo92-%s", stamp);
-    }
-    if (mkdir_p(out_dir)) {
-        fprintf(stderr, "accelbench: %s: cannot create output folder: %s\n", out_dir, strerror(errno));
-        return 2;
-    }
+    if (output_folder(r->o.out, "woo92-", out_dir, sizeof out_dir)) return 2;
     char csv_path[1200];
     snprintf(csv_path, sizeof csv_path, "%s/woo92.csv", out_dir);
     r->csv = fopen(csv_path, "w");
@@ -978,7 +953,7 @@ static int reproduce_woo92(int argc, char **argv)
     fclose(mf);
     free(md);
     if (!r->o.quiet) fprintf(stderr, "wrote %s and %s (%.1f s)\n", csv_path, path, wall_s);
-    if (r->o.plots) run_plots(csv_path, r->o.quiet);
+    if (r->o.plots) run_plot_script("plot_woo92.py", csv_path, r->o.quiet);
     if (r->any_real) {
         fprintf(stderr, "accelbench: reproduce woo92: REAL mismatches against Embree (see above and the Verification table)\n");
         return 1;

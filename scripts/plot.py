@@ -51,7 +51,7 @@ def num(value):
     return x if math.isfinite(x) else None
 
 
-def load_rows(path):
+def load_rows(path, required=REQUIRED):
     """Read the CSV into a list of dicts, skipping short/long rows."""
     if not os.path.isfile(path):
         fail(f"{path}: no such file")
@@ -62,7 +62,7 @@ def load_rows(path):
     with f:
         reader = csv.reader(f)
         header = [h.strip() for h in next(reader, [])]
-        missing = [c for c in REQUIRED if c not in header]
+        missing = [c for c in required if c not in header]
         if missing:
             fail(f"{path}: missing required column(s): {', '.join(missing)}")
         rows = []

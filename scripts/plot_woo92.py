@@ -19,8 +19,6 @@ reflection), as in the printed tables. A table missing from the CSV is
 skipped. Exit status 2 for a missing file or missing columns.
 """
 import argparse
-import csv
-import math
 import os
 import sys
 
@@ -30,8 +28,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 REQUIRED = ("table", "variant", "grid_res", "scene", "workload", "rays", "trace_ms",
             "trace_ms_min", "trace_ms_max", "tests_per_ray", "box_tests_per_ray", "mem_bytes")
-DPI = 110
 PROG = "plot_woo92.py"
+
+# The CSV reader, number parsing, errors and figure saving are plot.py's.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot as common  # noqa: E402
+
+common.PROG = PROG
+fail, num, save = common.fail, common.num, common.save
 
 # Woo 1992, in seconds (the paper's tables), for the side-by-side panels.
 WOO_T2 = {"Spheres": (475, 403), "Room": (2240, 2041), "Lamp": (1544, 1407)}
@@ -41,41 +45,9 @@ ABL_ORDER = ("old", "+woo90", "+mtf=hit", "+mtf=almost", "+dynbox", "+voxbox", "
              "+tclip", "+eyeorigin", "+rayid=twopass")
 
 
-def fail(msg):
-    """Print a one-line error and exit with status 2."""
-    print(f"{PROG}: error: {msg}", file=sys.stderr)
-    sys.exit(2)
-
-
-def num(value):
-    """Parse a CSV field as float; empty or malformed fields give None."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        return None
-    return x if math.isfinite(x) else None
-
-
 def load_rows(path):
-    """Read the CSV into a list of dicts, skipping short/long rows."""
-    if not os.path.isfile(path):
-        fail(f"{path}: no such file")
-    with open(path, newline="", encoding="utf-8", errors="replace") as f:
-        reader = csv.reader(f)
-        header = [h.strip() for h in next(reader, [])]
-        missing = [c for c in REQUIRED if c not in header]
-        if missing:
-            fail(f"{path}: missing required column(s): {', '.join(missing)}")
-        rows = []
-        for rec in reader:
-            if not rec:
-                continue
-            if len(rec) != len(header):
-                print(f"{PROG}: warning: {path}:{reader.line_num}: "
-                      f"{len(rec)} fields, expected {len(header)}; row skipped", file=sys.stderr)
-                continue
-            rows.append(dict(zip(header, rec)))
-    return rows
+    """Read woo92.csv with plot.py's reader (same rules, this file's columns)."""
+    return common.load_rows(path, REQUIRED)
 
 
 class Image:
@@ -114,14 +86,6 @@ def footer(fig, rows):
         return ", ".join(v for v in dict.fromkeys(r.get(col, "") for r in rows) if v) or "?"
     fig.text(0.01, 0.005, f"machine: {uniq('machine')} | cpu: {uniq('cpu')} | timed threads: {uniq('threads')} | "
              f"repeat: {uniq('repeat')} | git: {uniq('git_rev')}", fontsize=7, color="0.35", ha="left", va="bottom")
-
-
-def save(fig, path, written):
-    """Lay out, write and close a figure; record the path."""
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    fig.savefig(path, dpi=DPI, metadata={"Software": None})
-    plt.close(fig)
-    written.append(path)
 
 
 def plot_table1(rows, path, written):
