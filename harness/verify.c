@@ -22,9 +22,18 @@ double verify_exact_closest(const scene_t *s, const ray_t *r, uint32_t *prim)
     return best;
 }
 
+/* Cosine below which a ray counts as skimming a surface: float t and the
+ * inside test are ill-conditioned there (error grows like 1/cos). */
+#define GRAZE_COS 1e-3
+
 static bool grazes(const scene_t *s, const ray_t *r, uint32_t prim, double t, double graze)
 {
-    return prim != HIT_NONE && prim_boundary_distance(&s->prims, prim, r, t) <= graze;
+    if (prim == HIT_NONE) return false;
+    if (prim_boundary_distance(&s->prims, prim, r, t) <= graze) return true;
+    hit_t h = {(float)t, 0.0f, 0.0f, prim};
+    vec3 n = prim_normal(&s->prims, &h, r);
+    float len = v3_len(r->dir);
+    return len > 0.0f && fabsf(v3_dot(n, r->dir)) < (float)GRAZE_COS * len;
 }
 
 static mismatch_class classify_closest(const scene_t *s, const ray_t *r, mismatch_t *m, double graze, bool arbiter)

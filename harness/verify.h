@@ -8,7 +8,9 @@
  *   edge      the hit point of either answer (or, for any-hit rays, the
  *             nearest double-precision hit) lies within the graze distance
  *             of an edge or vertex of its triangle, or of a sphere's
- *             silhouette: float noise, not a bug
+ *             silhouette, or the ray skims that surface (|cos| between ray
+ *             and normal < 1e-3, where float t error grows like 1/cos):
+ *             float noise, not a bug
  *   tol       same primitive, t off by more than the bound; or an any-hit
  *             ray whose only hit sits at the very end of [tnear, tfar)
  *   refwrong  the double-precision arbiter (every primitive re-tested in

@@ -73,6 +73,26 @@ int main(void)
     answers_free(got);
     rayset_free(rs);
 
+    /* A ray skimming the floor (z = -0.5) at a slope of 1e-4 hits it near
+     * x = -10, far from any edge: a missed answer there is classed edge
+     * (ill-conditioned graze), while the same miss on a steep ray is real. */
+    for (int steep = 0; steep < 2; steep++) {
+        ray_t g = {v3(-11.0f, 0.0f, -0.5f + 1e-4f), 0.0f, v3_norm(v3(1.0f, 0.0f, steep ? -1.0f : -1e-4f)), INFINITY,
+                   RAY_NO_LIGHT, 0};
+        rayset_t *gs = rayset_new("random", s->name, 1, QUERY_CLOSEST);
+        rayset_push(gs, &g, 0);
+        rayset_seal(gs);
+        answers_t *w = test_trace(ref, gs, 1), *m = test_trace(ref, gs, 1);
+        CHECK(w->hits[0].prim == 0); /* the floor polygon is primitive 0 */
+        m->hits[0].prim = HIT_NONE;
+        verify_answers(s, gs, m, w, &vr);
+        CHECK_MSG(vr.mismatches[steep ? MM_REAL : MM_EDGE] == 1, "steep=%d: classes edge %llu real %llu", steep,
+                  (unsigned long long)vr.mismatches[MM_EDGE], (unsigned long long)vr.mismatches[MM_REAL]);
+        answers_free(w);
+        answers_free(m);
+        rayset_free(gs);
+    }
+
     ref->ops->destroy(ref);
     scene_free(s);
     return check_report();
