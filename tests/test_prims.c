@@ -23,39 +23,8 @@
 /* ---------------------------------------------------------------------- */
 /* helpers                                                                 */
 
-static uint64_t rng_state = 0x5eed5eed12345678ull;
-
-/* splitmix64: small, deterministic, good enough for test inputs. */
-static uint64_t rng_next(void)
-{
-    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-static float rnd(float lo, float hi)
-{
-    double u = (double)(rng_next() >> 11) * (1.0 / 9007199254740992.0);
-    return (float)(lo + (hi - lo) * u);
-}
-
-static vec3 rnd_v3(float lo, float hi) { return v3(rnd(lo, hi), rnd(lo, hi), rnd(lo, hi)); }
-
-static ray_t make_ray(vec3 org, vec3 dir, float tnear, float tfar)
-{
-    ray_t r;
-    memset(&r, 0, sizeof r);
-    r.org = org;
-    r.dir = dir;
-    r.tnear = tnear;
-    r.tfar = tfar;
-    r.light = RAY_NO_LIGHT;
-    return r;
-}
-
-/* A ray from org through target (dir = target - org, so target is t = 1). */
-static ray_t ray_through(vec3 org, vec3 target) { return make_ray(org, v3_sub(target, org), 0.0f, INFINITY); }
+#define PRIMS_TEST_SEED 0x5eed5eed12345678ull
+#include "prims_testlib.h"
 
 static bool tri_hit(vec3 a, vec3 b, vec3 c, const ray_t *r, float *t, float *u, float *v)
 {
@@ -74,12 +43,6 @@ static sphere_t sph(vec3 c, float r)
 {
     sphere_t s = {c, r};
     return s;
-}
-
-static box3 box(vec3 lo, vec3 hi)
-{
-    box3 b = {lo, hi};
-    return b;
 }
 
 /* A finished store holding the given triangles over the given vertices. */

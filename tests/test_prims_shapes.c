@@ -28,40 +28,8 @@
 /* ---------------------------------------------------------------------- */
 /* helpers                                                                 */
 
-static uint64_t rng_state = 0x0c0de5ba5e5eedull;
-
-/* splitmix64: small, deterministic, good enough for test inputs. */
-static uint64_t rng_next(void)
-{
-    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-static double rndd(double lo, double hi) { return lo + (hi - lo) * ((double)(rng_next() >> 11) * (1.0 / 9007199254740992.0)); }
-static float rnd(float lo, float hi) { return (float)rndd(lo, hi); }
-static vec3 rnd_v3(float lo, float hi) { return v3(rnd(lo, hi), rnd(lo, hi), rnd(lo, hi)); }
-
-static ray_t make_ray(vec3 org, vec3 dir, float tnear, float tfar)
-{
-    ray_t r;
-    memset(&r, 0, sizeof r);
-    r.org = org;
-    r.dir = dir;
-    r.tnear = tnear;
-    r.tfar = tfar;
-    r.light = RAY_NO_LIGHT;
-    return r;
-}
-
-static ray_t ray_through(vec3 org, vec3 target) { return make_ray(org, v3_sub(target, org), 0.0f, INFINITY); }
-
-static box3 box(vec3 lo, vec3 hi)
-{
-    box3 b = {lo, hi};
-    return b;
-}
+#define PRIMS_TEST_SEED 0x0c0de5ba5e5eedull
+#include "prims_testlib.h"
 
 static cone_t cone(vec3 b, float rb, vec3 a, float ra)
 {
