@@ -325,13 +325,13 @@ def plot_scene(scene, rows, labels, workloads, base, written):
     plot_build_mem(scene, rows, labels, cfgs, base + "__build_mem.png", written)
 
 
-def parse_args(argv):
-    """Command-line interface."""
+def parse_args(argv, prog=None, doc=__doc__, required=REQUIRED, csv_help="benchmark CSV written by the harness"):
+    """Command-line interface (shared with plot_woo92.py)."""
     p = argparse.ArgumentParser(
-        prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog=f"Required columns: {', '.join(REQUIRED)}. Prints the files written "
+        prog=prog or PROG, description=doc, formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=f"Required columns: {', '.join(required)}. Prints the files written "
                "unless --quiet.")
-    p.add_argument("csv", metavar="CSV", help="benchmark CSV written by the harness")
+    p.add_argument("csv", metavar="CSV", help=csv_help)
     p.add_argument("--out", metavar="DIR", help="output folder (default: the CSV's folder)")
     p.add_argument("--quiet", action="store_true", help="do not list the files written")
     return p.parse_args(argv)

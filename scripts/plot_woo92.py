@@ -18,7 +18,6 @@ An image's time is the sum of its rows' trace_ms over workloads (primary +
 reflection), as in the printed tables. A table missing from the CSV is
 skipped. Exit status 2 for a missing file or missing columns.
 """
-import argparse
 import os
 import sys
 
@@ -250,14 +249,8 @@ def plot_ablation(rows, path, written):
 
 
 def parse_args(argv):
-    """Command-line interface."""
-    p = argparse.ArgumentParser(
-        prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog=f"Required columns: {', '.join(REQUIRED)}. Prints the files written unless --quiet.")
-    p.add_argument("csv", metavar="CSV", help="woo92.csv written by accelbench reproduce woo92")
-    p.add_argument("--out", metavar="DIR", help="output folder (default: the CSV's folder)")
-    p.add_argument("--quiet", action="store_true", help="do not list the files written")
-    return p.parse_args(argv)
+    """Command-line interface: plot.py's, with this file's columns."""
+    return common.parse_args(argv, PROG, __doc__, REQUIRED, "woo92.csv written by accelbench reproduce woo92")
 
 
 def main(argv=None):
