@@ -337,14 +337,22 @@ def parse_args(argv, prog=None, doc=__doc__, required=REQUIRED, csv_help="benchm
     return p.parse_args(argv)
 
 
-def main(argv=None):
-    """Load the CSV and write all plots."""
-    args = parse_args(argv)
-    rows = load_rows(args.csv)
+def rows_and_folder(args, required=REQUIRED):
+    """The CSV's rows and the output folder (created); rows is empty, with a
+    warning, when there is nothing to plot. Shared with plot_woo92.py."""
+    rows = load_rows(args.csv, required)
     out = args.out or os.path.dirname(os.path.abspath(args.csv))
     os.makedirs(out, exist_ok=True)
     if not rows:
         print(f"{PROG}: warning: {args.csv}: no data rows, nothing plotted", file=sys.stderr)
+    return rows, out
+
+
+def main(argv=None):
+    """Load the CSV and write all plots."""
+    args = parse_args(argv)
+    rows, out = rows_and_folder(args)
+    if not rows:
         return 0
     labels = config_labels(rows)
     workloads = ordered((r["workload"] for r in rows), WORKLOAD_ORDER)

@@ -44,11 +44,6 @@ ABL_ORDER = ("old", "+woo90", "+mtf=hit", "+mtf=almost", "+dynbox", "+voxbox", "
              "+tclip", "+eyeorigin", "+rayid=twopass")
 
 
-def load_rows(path):
-    """Read woo92.csv with plot.py's reader (same rules, this file's columns)."""
-    return common.load_rows(path, REQUIRED)
-
-
 class Image:
     """One measured image: the rows of one (table, variant, scene), summed over workloads."""
 
@@ -256,11 +251,8 @@ def parse_args(argv):
 def main(argv=None):
     """Load the CSV and write all plots."""
     args = parse_args(argv)
-    rows = load_rows(args.csv)
-    out = args.out or os.path.dirname(os.path.abspath(args.csv))
-    os.makedirs(out, exist_ok=True)
+    rows, out = common.rows_and_folder(args, REQUIRED)
     if not rows:
-        print(f"{PROG}: warning: {args.csv}: no data rows, nothing plotted", file=sys.stderr)
         return 0
     written = []
     plot_table1(rows, os.path.join(out, "woo92_table1.png"), written)
