@@ -30,13 +30,12 @@ enum accel_flag {
      * thread, and says so in the CSV. */
     ACCEL_MUTATES = 1u << 0,
     /* Answers occluded() only (Haines-Greenberg light buffer: one structure
-     * per light, chosen by ray->light); intersect is NULL. The harness runs
-     * it on shadow workloads only. */
+     * per light, chosen by ray->light, which the shadow workload sets on
+     * every ray); intersect is NULL. The harness runs it on shadow
+     * workloads only. */
     ACCEL_SHADOW_ONLY = 1u << 1,
     /* Counters are not observable (Embree): the CSV leaves them empty. */
     ACCEL_OPAQUE = 1u << 2,
-    /* Needs ray->light on every occlusion ray. */
-    ACCEL_NEEDS_LIGHT = 1u << 3,
 };
 
 typedef struct accel accel;
