@@ -24,6 +24,10 @@
 #include "../scenes/scene.h"
 #include "params.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 enum accel_flag {
     /* Reorders its own data while tracing (Woo's move-to-front, lazy ray
      * classification). Not thread-safe: the harness traces it on one
@@ -80,5 +84,9 @@ struct accel {
 /* Registry (registry.c). */
 extern const struct accel_ops *const accel_registry[];
 const struct accel_ops *accel_find(const char *name);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

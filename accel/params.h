@@ -11,6 +11,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     const char *name;          /* NULL ends the table */
     const char *default_value;
@@ -39,5 +43,9 @@ int params_get_double(const accel_params *p, const char *key, double lo, double 
 int params_get_choice(const accel_params *p, const char *key, const char *const *choices, int *out, char *err, size_t errlen);
 /* "key=value,key=value" in table order. */
 void params_format(const accel_params *p, char *buf, size_t len);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

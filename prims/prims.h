@@ -48,8 +48,13 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <assert.h> /* static_assert, also in C++ */
 #include <stdint.h>
 #include "ray.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 typedef enum { PRIM_TRIANGLE = 0, PRIM_SPHERE = 1, PRIM_CONE = 2, PRIM_POLYGON = 3, PRIM_KINDS } prim_kind;
 
@@ -67,7 +72,7 @@ typedef struct {
     uint8_t axis;       /* dominant axis of normal, the one a 2D projection drops */
     uint8_t degenerate; /* 1 when the polygon has zero area: never hit */
 } polygon_t;
-_Static_assert(sizeof(cone_t) == 32 && sizeof(polygon_t) == 32, "cone_t and polygon_t are 32 bytes");
+static_assert(sizeof(cone_t) == 32 && sizeof(polygon_t) == 32, "cone_t and polygon_t are 32 bytes");
 
 typedef struct prims {
     uint32_t count;      /* all primitives */
@@ -173,5 +178,9 @@ vec3 polygon_normal(const vec3 *pts, uint32_t n);
  * still n - 2 but the triangles may overlap or leave the polygon.
  * O(n^2) typically, O(n^3) worst case. */
 uint32_t polygon_triangulate(const vec3 *pts, uint32_t n, vec3 normal, uint32_t (*tris)[3]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

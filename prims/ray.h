@@ -7,8 +7,13 @@
 #ifndef ACCELBENCH_RAY_H
 #define ACCELBENCH_RAY_H
 
+#include <assert.h> /* static_assert, also in C++ */
 #include <stdint.h>
 #include "vec3.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define RAY_NO_LIGHT UINT32_MAX
 #define HIT_NONE UINT32_MAX
@@ -21,7 +26,7 @@ typedef struct {
     uint32_t light; /* shadow rays: index of the scene light the ray goes to; else RAY_NO_LIGHT */
     uint32_t pad;   /* keeps the struct 40 bytes and the ray file layout fixed */
 } ray_t;
-_Static_assert(sizeof(ray_t) == 40, "ray_t is 40 bytes; the ray file format depends on it");
+static_assert(sizeof(ray_t) == 40, "ray_t is 40 bytes; the ray file format depends on it");
 
 /* A hit: distance, primitive id (scene order) and the primitive's own
  * parameters (barycentrics for triangles, unused for spheres). prim ==
@@ -61,5 +66,9 @@ static inline void counters_add(counters_t *a, const counters_t *b)
     a->empty_leaves += b->empty_leaves;
     a->mailbox_hits += b->mailbox_hits;
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -10,6 +10,10 @@
 #include <stdio.h>
 #include "../prims/prims.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Pinhole camera, NFF style: fov_deg is the full angle between the centres
  * of the top and bottom pixel rows; the image is square-pixel, so the
  * horizontal angle follows from width/height. */
@@ -106,5 +110,9 @@ scene_t *scene_spd(const char *name, const char *generator, int size, int tess_r
  * return 0 if name is not a set, -1 if it is one but does not fit in
  * outlen (out then holds "" ). */
 int scene_set_expand(const char *name, char *out, size_t outlen);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -6,9 +6,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(
-    gcc libc6-dev pkg-config git meson ninja-build     # toolchain
+    gcc g++ libc6-dev pkg-config git meson ninja-build # toolchain (C, and C++ for the CGAL parts)
     libembree-dev                                      # Embree 3: reference and speed bar
-    libcgal-dev                                        # CGAL: AABB-tree peer and exact judge (coming)
+    libcgal-dev libgmp-dev libmpfr-dev                 # CGAL: the exact judge of verify and the cgal-aabb peer
     libassimp-dev libarchive-dev libpng-dev            # mesh loading, compressed files, PNG output
     python3-matplotlib                                 # plots from the CSV
     libcgal-demo glmark2-data occt-misc openfoam-examples  # benchmark meshes (bunny, dragon, head, motorbike ...)
