@@ -8,12 +8,14 @@ extern const struct accel_ops accel_exhaustive;
 extern const struct accel_ops accel_embree;
 extern const struct accel_ops accel_grid;
 extern const struct accel_ops accel_grid_raybox;
+extern const struct accel_ops accel_cgal_aabb;
 
 const struct accel_ops *const accel_registry[] = {
     &accel_exhaustive,
     &accel_embree,
     &accel_grid,
     &accel_grid_raybox,
+    &accel_cgal_aabb,
     NULL,
 };
 

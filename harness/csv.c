@@ -10,7 +10,8 @@ const char *const csv_columns[] = {
     "build_ms", "trace_ms", "trace_ms_min", "trace_ms_max", "mrays_per_s", "ratio_vs_embree",
     "mem_bytes", "bytes_per_prim", "tests_per_ray", "prim_hits_per_ray", "box_tests_per_ray",
     "steps_per_ray", "empty_leaves_per_ray", "mailbox_hits_per_ray", "agree", "mismatch_real",
-    "mismatch_edge", "mismatch_tol", "mismatch_refwrong", "serial", "res", "spp", "repeat", "passes",
+    "mismatch_edge", "mismatch_tol", "mismatch_refwrong", "mismatch_origin", "mismatch_unjudged", "illposed_rays",
+    "judge_ms", "serial", "res", "spp", "repeat", "passes",
     "git_rev", "machine", "cpu", "date", NULL,
 };
 
@@ -92,6 +93,8 @@ void csv_write_row(FILE *f, const csv_row *r)
     put_per_ray(f, r, r->counters.mailbox_hits);
     fprintf(f, ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64, r->agree, r->mismatch_real,
             r->mismatch_edge, r->mismatch_tol, r->mismatch_refwrong);
+    fprintf(f, ",%" PRIu64 ",%" PRIu64 ",%" PRIu32 ",%.1f", r->mismatch_origin, r->mismatch_unjudged, r->illposed_rays,
+            r->judge_ms);
     fprintf(f, ",%d,%dx%d,%d,%d,%d,", r->serial ? 1 : 0, r->width, r->height, r->spp, r->repeat, r->passes);
     put_text(f, r->git_rev);
     fputc(',', f);

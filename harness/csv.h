@@ -23,6 +23,9 @@ typedef struct {
     bool has_counters;
     counters_t counters;       /* totals; divided by rays when written */
     uint64_t agree, mismatch_real, mismatch_edge, mismatch_tol, mismatch_refwrong;
+    uint64_t mismatch_origin, mismatch_unjudged; /* ill-posed rays; rays the judge's budget did not reach */
+    uint32_t illposed_rays;    /* rays of the set whose reference hit lies within the origin bound */
+    double judge_ms;           /* time the exact judge spent on this cell */
     bool serial;               /* traced on one thread because the accelerator mutates */
     int width, height, spp, repeat;
     int passes;                /* traces of the ray set per timed sample; times are per pass */

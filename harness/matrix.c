@@ -20,6 +20,7 @@ typedef struct {
     answers_t *ref;
     accel *ref_accel;
     double ref_warm_ms; /* the reference trace that made ref: the warm-up of its timing */
+    uint32_t illposed;  /* rays whose reference hit lies within the origin bound (verify.h) */
 } cell_input;
 
 static int save_rays(const options *o, const rayset_t *rs, int nsets)
@@ -65,6 +66,7 @@ static int cell_prepare(const options *o, const scene_t *s, accel *ref, const wo
     }
     in->ref = answers_new(in->rs, false);
     in->ref_warm_ms = trace_rayset(ref, in->rs, o->threads, in->ref);
+    in->illposed = verify_count_illposed(s, in->rs, ref, o->threads);
     return 0;
 }
 
@@ -86,9 +88,9 @@ static int threads_for(const accel_config *ac, const options *o)
     return (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads;
 }
 
-/* Load scene number si and build its reference; errors go to stderr and
- * give NULL. */
-static scene_t *open_scene(const options *o, int si, accel **ref)
+/* Load scene number si, build its reference and its verifier; errors go
+ * to stderr and give NULL. */
+static scene_t *open_scene(const options *o, int si, accel **ref, verifier_t **ver)
 {
     char err[512];
     double t0 = clock_ms();
@@ -107,7 +109,15 @@ static scene_t *open_scene(const options *o, int si, accel **ref)
         scene_free(s);
         return NULL;
     }
+    *ver = verifier_new(s, o->judge_seconds);
     return s;
+}
+
+static void close_scene(scene_t *s, accel *ref, verifier_t *ver)
+{
+    verifier_free(ver);
+    ref->ops->destroy(ref);
+    scene_free(s);
 }
 
 int matrix_run(options *o)
@@ -134,7 +144,8 @@ int matrix_run(options *o)
     double wall0 = clock_ms();
     for (int si = 0; si < o->nscenes; si++) {
         accel *ref;
-        scene_t *s = open_scene(o, si, &ref);
+        verifier_t *ver;
+        scene_t *s = open_scene(o, si, &ref, &ver);
         if (!s) {
             status = 2;
             break;
@@ -164,7 +175,7 @@ int matrix_run(options *o)
                 answers_t *got = answers_new(in.rs, false);
                 double warm_ms = trace_rayset(a, in.rs, threads, got); /* warm-up: answers and counters */
                 verify_result vr;
-                verify_answers(s, in.rs, got, in.ref, &vr);
+                verifier_check(ver, in.rs, got, in.ref, &vr);
                 timing tt = time_traces(a, in.rs, threads, o->repeat, warm_ms, scratch);
                 csv_row row = {
                     .scene = s->name, .prims = s->prims.count, .accel = ac->ops->name, .params = ac->params_str,
@@ -175,7 +186,9 @@ int matrix_run(options *o)
                     .mem_bytes = a->ops->memory(a), .has_counters = !(ac->ops->flags & ACCEL_OPAQUE),
                     .counters = got->total, .agree = vr.agree, .mismatch_real = vr.mismatches[MM_REAL],
                     .mismatch_edge = vr.mismatches[MM_EDGE], .mismatch_tol = vr.mismatches[MM_TOL],
-                    .mismatch_refwrong = vr.mismatches[MM_REFWRONG], .serial = threads != o->threads,
+                    .mismatch_refwrong = vr.mismatches[MM_REFWRONG], .mismatch_origin = vr.mismatches[MM_ORIGIN],
+                    .mismatch_unjudged = vr.mismatches[MM_UNJUDGED], .illposed_rays = in.illposed,
+                    .judge_ms = vr.judge_ms, .serial = threads != o->threads,
                     .width = o->wl.width, .height = o->wl.height, .spp = o->wl.spp, .repeat = o->repeat, .passes = tt.passes,
                     .git_rev = mi.git_rev, .machine = mi.host, .cpu = mi.cpu, .date = mi.date,
                 };
@@ -191,8 +204,7 @@ int matrix_run(options *o)
             answers_free(scratch);
             cell_release(&in);
         }
-        ref->ops->destroy(ref);
-        scene_free(s);
+        close_scene(s, ref, ver);
         if (status) break;
     }
     fclose(csv);
@@ -203,57 +215,97 @@ int matrix_run(options *o)
 
 /* ------------------------------------------------------------------ verify */
 
-static void print_answer(const char *who, const rayset_t *rs, const answers_t *a, uint32_t i)
-{
-    if (rs->query == QUERY_ANY) printf("    %-12s %s\n", who, a->occluded[i] ? "occluded" : "clear");
-    else if (a->hits[i].prim == HIT_NONE) printf("    %-12s miss\n", who);
-    else printf("    %-12s prim %u t=%.9g u=%.6f v=%.6f\n", who, a->hits[i].prim, a->hits[i].t, a->hits[i].u, a->hits[i].v);
-}
-
-static void replay_ray(const scene_t *s, const rayset_t *rs, uint32_t i, const answers_t *got, const answers_t *ref, const char *accel_name)
+/* One answer, with the exact judge's t for the primitive it names. */
+static void print_answer(judge_t *j, const char *who, const rayset_t *rs, const answers_t *a, uint32_t i)
 {
     const ray_t *r = &rs->rays[i];
+    if (rs->query == QUERY_ANY) {
+        printf("    %-12s %s\n", who, a->occluded[i] ? "occluded" : "clear");
+        return;
+    }
+    const hit_t *h = &a->hits[i];
+    if (h->prim == HIT_NONE) {
+        printf("    %-12s miss\n", who);
+        return;
+    }
+    char dec[64], exact[512];
+    bool hit = judge_describe(j, r, h->prim, dec, sizeof dec, exact, sizeof exact);
+    printf("    %-12s prim %u t=%.9g u=%.6f v=%.6f; judge on prim %u: %s%s%s\n", who, h->prim, h->t, h->u, h->v, h->prim,
+           hit ? dec : "miss", hit ? " = " : "", hit ? exact : "");
+}
+
+static void replay_ray(const scene_t *s, verifier_t *ver, const rayset_t *rs, uint32_t i, const answers_t *got,
+                       const answers_t *ref, const char *accel_name)
+{
+    const ray_t *r = &rs->rays[i];
+    judge_t *j = verifier_judge(ver);
     printf("  ray %u of %s/%s (hash %016llx): org (%.9g %.9g %.9g) dir (%.9g %.9g %.9g) t [%.9g, %.9g) light %d\n", i,
            s->name, rs->workload, (unsigned long long)rs->hash, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y,
            r->dir.z, r->tnear, r->tfar, r->light == RAY_NO_LIGHT ? -1 : (int)r->light);
-    print_answer(accel_name, rs, got, i);
-    print_answer("embree", rs, ref, i);
-    uint32_t prim;
-    double t = verify_exact_closest(s, r, &prim);
-    if (t < 0) printf("    %-12s miss\n", "exact(f64)");
-    else
-        printf("    %-12s prim %u t=%.12g, %.3g from the primitive's boundary\n", "exact(f64)", prim, t,
-               prim_boundary_distance(&s->prims, prim, r, t));
+    print_answer(j, accel_name, rs, got, i);
+    print_answer(j, "embree", rs, ref, i);
+    judge_hit e = judge_closest(j, r);
+    if (e.prim == HIT_NONE) {
+        printf("    %-12s miss (exact, every primitive)\n", "judge");
+        return;
+    }
+    char dec[64], exact[512];
+    judge_describe(j, r, e.prim, dec, sizeof dec, exact, sizeof exact);
+    printf("    %-12s prim %u t=%s = %s; %.3g from the primitive's boundary, noise scale %.3g%s\n", "judge", e.prim, dec,
+           exact, prim_boundary_distance(&s->prims, e.prim, r, e.t), verify_noise_scale(s, r, e.prim),
+           verify_hit_at_origin(s, r, e.prim, e.t) ? " (at the origin: ill-posed)" : "");
 }
 
-static void print_mismatch(const scene_t *s, const rayset_t *rs, const mismatch_t *m, const char *accel_name, const char *scene_arg)
+static void print_mismatch(const options *o, const rayset_t *rs, const mismatch_t *m, const accel_config *ac,
+                           const char *scene_arg)
 {
+    const char *name = ac->ops->name;
     printf("    ray %-8u %-8s ", m->ray, mismatch_class_name[m->cls]);
-    if (rs->query == QUERY_ANY) printf("%s: %s, embree: %s", accel_name, m->got_occ ? "occluded" : "clear", m->ref_occ ? "occluded" : "clear");
+    if (rs->query == QUERY_ANY) printf("%s: %s, embree: %s", name, m->got_occ ? "occluded" : "clear", m->ref_occ ? "occluded" : "clear");
     else {
-        if (m->got.prim == HIT_NONE) printf("%s: miss", accel_name);
-        else printf("%s: prim %u t=%.7g", accel_name, m->got.prim, m->got.t);
+        if (m->got.prim == HIT_NONE) printf("%s: miss", name);
+        else printf("%s: prim %u t=%.7g", name, m->got.prim, m->got.t);
         if (m->ref.prim == HIT_NONE) printf(", embree: miss");
         else printf(", embree: prim %u t=%.7g", m->ref.prim, m->ref.t);
     }
-    if (!isnan(m->exact_t)) {
-        if (m->exact_t < 0) printf(", exact: miss");
-        else printf(", exact: prim %u t=%.7g", m->exact_prim, m->exact_t);
+    if (m->judged) {
+        if (m->exact.prim == HIT_NONE) printf(", judge: miss");
+        else printf(", judge: prim %u t=%.7g", m->exact.prim, m->exact.t);
     }
-    printf("\n      replay: accelbench verify --scenes %s --workloads %s --accels %s --ray %u\n", scene_arg, rs->workload,
-           accel_name, m->ray);
-    (void)s;
+    char cmd[2048];
+    options_replay_command(o, scene_arg, rs->workload, ac, m->ray, cmd, sizeof cmd);
+    printf("\n      replay: %s\n", cmd);
+}
+
+/* The verify table's columns; the text ones are as wide as their longest entry. */
+static const char *const verify_counts[] = {"rays", "illposed", "agree", "edge", "origin", "tol", "refwrong", "real", "unjudged"};
+#define VERIFY_NCOUNTS (int)(sizeof verify_counts / sizeof verify_counts[0])
+
+typedef struct { int scene, workload, accel; } verify_widths;
+
+static verify_widths table_widths(const options *o)
+{
+    verify_widths w = {5, 8, 5};
+    for (int i = 0; i < o->nscenes; i++) w.scene = (int)fmax(w.scene, strlen(o->scenes[i]));
+    for (int i = 0; i < o->nworkloads; i++) w.workload = (int)fmax(w.workload, strlen(o->workloads[i]->name));
+    if (o->rays_file) w.workload = (int)fmax(w.workload, 31);
+    for (int i = 0; i < o->naccels; i++) w.accel = (int)fmax(w.accel, strlen(o->accels[i].label));
+    return w;
 }
 
 int matrix_verify(options *o)
 {
     int status = 0;
     bool any_real = false;
-    printf("%-22s %-11s %-24s %9s %9s %6s %6s %8s %6s\n", "scene", "workload", "accel", "rays", "agree", "edge", "tol",
-           "refwrong", "real");
+    uint64_t unjudged = 0;
+    verify_widths w = table_widths(o);
+    printf("%-*s %-*s %-*s", w.scene, "scene", w.workload, "workload", w.accel, "accel");
+    for (int k = 0; k < VERIFY_NCOUNTS; k++) printf(" %9s", verify_counts[k]);
+    printf("\n");
     for (int si = 0; si < o->nscenes && !status; si++) {
         accel *ref;
-        scene_t *s = open_scene(o, si, &ref);
+        verifier_t *ver;
+        scene_t *s = open_scene(o, si, &ref, &ver);
         if (!s) return 2;
         int nw = o->rays_file ? 1 : o->nworkloads;
         for (int wi = 0; wi < nw && !status; wi++) {
@@ -280,25 +332,30 @@ int matrix_verify(options *o)
                 answers_t *got = answers_new(in.rs, false);
                 trace_rayset(a, in.rs, threads_for(ac, o), got);
                 verify_result vr;
-                verify_answers(s, in.rs, got, in.ref, &vr);
-                const char *label = ac->label;
-                printf("%-22s %-11s %-24s %9u %9llu %6llu %6llu %8llu %6llu\n", s->name, in.rs->workload, label,
-                       in.rs->count, (unsigned long long)vr.agree, (unsigned long long)vr.mismatches[MM_EDGE],
-                       (unsigned long long)vr.mismatches[MM_TOL], (unsigned long long)vr.mismatches[MM_REFWRONG],
-                       (unsigned long long)vr.mismatches[MM_REAL]);
+                verifier_check(ver, in.rs, got, in.ref, &vr);
+                uint64_t counts[VERIFY_NCOUNTS] = {in.rs->count, in.illposed, vr.agree, vr.mismatches[MM_EDGE],
+                                                   vr.mismatches[MM_ORIGIN], vr.mismatches[MM_TOL],
+                                                   vr.mismatches[MM_REFWRONG], vr.mismatches[MM_REAL],
+                                                   vr.mismatches[MM_UNJUDGED]};
+                printf("%-*s %-*s %-*s", w.scene, o->scenes[si], w.workload, in.rs->workload, w.accel, ac->label);
+                for (int k = 0; k < VERIFY_NCOUNTS; k++) printf(" %9llu", (unsigned long long)counts[k]);
+                printf("\n");
                 if (vr.mismatches[MM_REAL]) any_real = true;
-                if (o->ray_index >= 0) replay_ray(s, in.rs, (uint32_t)o->ray_index, got, in.ref, ac->ops->name);
+                unjudged += vr.mismatches[MM_UNJUDGED];
+                if (o->ray_index >= 0) replay_ray(s, ver, in.rs, (uint32_t)o->ray_index, got, in.ref, ac->ops->name);
                 else
-                    for (uint32_t k = 0; k < vr.nlisted; k++) print_mismatch(s, in.rs, &vr.listed[k], ac->ops->name, o->scenes[si]);
+                    for (uint32_t k = 0; k < vr.nlisted; k++) print_mismatch(o, in.rs, &vr.listed[k], ac, o->scenes[si]);
                 answers_free(got);
                 a->ops->destroy(a);
             }
             cell_release(&in);
         }
-        ref->ops->destroy(ref);
-        scene_free(s);
+        close_scene(s, ref, ver);
     }
     fflush(stdout);
+    if (unjudged)
+        fprintf(stderr, "accelbench: %llu disputed rays were left unjudged: the judge's budget (--judge-seconds %g) ran out\n",
+                (unsigned long long)unjudged, o->judge_seconds);
     if (status) return status;
     return any_real ? 1 : 0;
 }

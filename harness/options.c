@@ -2,6 +2,7 @@
  * render (getopt_long). Every error is one line naming the option and the
  * value, and returns 2. */
 #include "options.h"
+#include "verify.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -10,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP };
+enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -24,6 +25,7 @@ static const struct option long_opts[] = {
     {"save-rays", required_argument, NULL, OPT_SAVE_RAYS}, {"rays", required_argument, NULL, OPT_RAYS},
     {"ray", required_argument, NULL, OPT_RAY}, {"no-plots", no_argument, NULL, OPT_NO_PLOTS},
     {"heatmap", required_argument, NULL, OPT_HEATMAP}, {"quiet", no_argument, NULL, 'q'},
+    {"judge-seconds", required_argument, NULL, OPT_JUDGE_SECONDS},
     {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
 };
 
@@ -55,8 +57,10 @@ void options_usage(FILE *out, const char *cmd)
             "  --seed S                random seed of the ray sets (default 1)\n"
             "  --threads N             tracing threads (default: all cores)\n"
             "  --rays FILE             replay a saved ray set instead of making workloads\n"
-            "  --save-rays PATH        save the ray sets (a file for one set, else a folder)\n",
-            cmd);
+            "  --save-rays PATH        save the ray sets (a file for one set, else a folder)\n"
+            "  --judge-seconds S       time the exact judge may spend on one cell's disputed rays; rays past it\n"
+            "                          are counted as unjudged (default %g; 0 = no limit)\n",
+            cmd, VERIFY_JUDGE_SECONDS);
     if (strcmp(cmd, "run") == 0)
         fprintf(out,
                 "  --repeat N              timed repeats after one warm-up; the median is reported (default 5)\n"
@@ -65,7 +69,7 @@ void options_usage(FILE *out, const char *cmd)
                 "  Every cell is verified against Embree as it runs; mismatch counts go in the CSV.\n");
     else
         fprintf(out,
-                "  --ray I                 replay ray I: print every answer and the exact arbiter's\n"
+                "  --ray I                 replay ray I: print every answer and the exact judge's t for each\n"
                 "  Exit status: 0 when no real mismatch, 1 on any real mismatch, 2 on bad input.\n");
 }
 
@@ -137,6 +141,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     o->repeat = 5;
     o->ray_index = -1;
     o->plots = true;
+    o->judge_seconds = VERIFY_JUDGE_SECONDS;
     o->wl = (workload_opts){.width = 128, .height = 128, .spp = 1, .depth = 3, .seed = 1};
     o->argv_line = join_args(argc, argv);
     /* Default accelerators: all of them; verify leaves out the reference itself. */
@@ -221,6 +226,17 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             }
             o->heatmap = optarg;
             break;
+        case OPT_JUDGE_SECONDS: {
+            char *end;
+            errno = 0;
+            double j = strtod(optarg, &end);
+            if (errno || end == optarg || *end || !(j >= 0.0 && j <= 86400.0)) {
+                fprintf(stderr, "accelbench: --judge-seconds %s: expected seconds in 0..86400\n", optarg);
+                return 2;
+            }
+            o->judge_seconds = j;
+            break;
+        }
         case 'q': o->quiet = true; break;
         case 'h': options_usage(stdout, cmd); return 1;
         default:
@@ -282,14 +298,17 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     }
     for (int i = 0; i < o->naccels; i++) {
         accel_config *ac = &o->accels[i];
-        accel_params defaults;
-        char dflt[sizeof ac->params_str];
-        params_defaults(&defaults, ac->ops->params);
-        params_format(&defaults, dflt, sizeof dflt);
         params_format(&ac->params, ac->params_str, sizeof ac->params_str);
-        /* Short label for tables: the name, plus the parameters when they differ from the defaults. */
-        snprintf(ac->label, sizeof ac->label, "%s%s%s%s", ac->ops->name, strcmp(dflt, ac->params_str) ? "[" : "",
-                 strcmp(dflt, ac->params_str) ? ac->params_str : "", strcmp(dflt, ac->params_str) ? "]" : "");
+        /* Short label for tables: the name, plus [k=v,...] for the parameters that differ from the defaults. */
+        size_t n = (size_t)snprintf(ac->label, sizeof ac->label, "%s", ac->ops->name);
+        const char *sep = "[";
+        for (int k = 0; k < ac->params.count && n < sizeof ac->label; k++) {
+            if (strcmp(ac->params.values[k], ac->params.table[k].default_value) == 0) continue;
+            n += (size_t)snprintf(ac->label + n, sizeof ac->label - n, "%s%s=%s", sep, ac->params.table[k].name,
+                                  ac->params.values[k]);
+            sep = ",";
+        }
+        if (*sep == ',' && n < sizeof ac->label) snprintf(ac->label + n, sizeof ac->label - n, "]");
     }
 
     /* Workloads. */
@@ -318,3 +337,43 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
 }
 
 void options_free(options *o) { free(o->argv_line); }
+
+/* Append one shell word, quoted when it holds anything the shell would split or expand. */
+static void append_word(char *buf, size_t len, const char *word)
+{
+    size_t used = strlen(buf);
+    bool plain = *word != 0;
+    for (const char *c = word; *c; c++)
+        if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789:,._/=+-@%#", *c)) plain = false;
+    snprintf(buf + used, len - used, plain ? " %s" : " '%s'", word);
+}
+
+void options_replay_command(const options *o, const char *scene, const char *workload, const accel_config *ac,
+                            uint32_t ray, char *buf, size_t len)
+{
+    char word[1200];
+    snprintf(buf, len, "accelbench verify");
+    append_word(buf, len, "--scenes");
+    append_word(buf, len, scene);
+    if (o->rays_file) {
+        append_word(buf, len, "--rays");
+        append_word(buf, len, o->rays_file);
+    } else {
+        snprintf(word, sizeof word, "--workloads %s --res %dx%d --spp %d --seed %llu --depth %d%s", workload, o->wl.width,
+                 o->wl.height, o->wl.spp, (unsigned long long)o->wl.seed, o->wl.depth, o->wl.corners ? " --corners" : "");
+        size_t used = strlen(buf);
+        snprintf(buf + used, len - used, " %s", word);
+    }
+    append_word(buf, len, "--accels");
+    append_word(buf, len, ac->ops->name);
+    /* Every parameter that differs from its default, so the replay builds the same structure. */
+    for (int k = 0; k < ac->params.count; k++) {
+        const accel_param *p = &ac->params.table[k];
+        if (strcmp(ac->params.values[k], p->default_value) == 0) continue;
+        append_word(buf, len, "--param");
+        snprintf(word, sizeof word, "%s.%s=%s", ac->ops->name, p->name, ac->params.values[k]);
+        append_word(buf, len, word);
+    }
+    size_t used = strlen(buf);
+    snprintf(buf + used, len - used, " --ray %u", ray);
+}

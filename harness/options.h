@@ -34,6 +34,7 @@ typedef struct {
     const char *heatmap;  /* render: NULL, "tests" or "steps" */
     bool quiet;
     bool res_given;       /* --res was on the command line */
+    double judge_seconds; /* the exact judge's time budget per cell (0: none) */
     char *argv_line;      /* the command as typed, for run.txt */
 } options;
 
@@ -42,5 +43,11 @@ typedef struct {
 int options_parse(options *o, const char *cmd, int argc, char **argv);
 void options_free(options *o);
 void options_usage(FILE *out, const char *cmd);
+/* The verify command line that replays ray `ray` of one cell exactly: the
+ * scene, the ray file or every option that shaped the ray set (workload,
+ * res, spp, seed, depth, corners), the accelerator and each of its
+ * parameters that differs from the default. */
+void options_replay_command(const options *o, const char *scene, const char *workload, const accel_config *ac,
+                            uint32_t ray, char *buf, size_t len);
 
 #endif

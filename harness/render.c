@@ -30,11 +30,10 @@ static vec3 shade(shader_t *sh, const ray_t *r, int depth)
     const scene_t *s = sh->s;
     hit_t h = hit_none(r);
     if (!sh->a->ops->intersect(sh->a, sh->ctx, r, &h, &sh->c)) return s->background;
-    vec3 p, n;
-    hit_frame(s, r, &h, &p, &n);
+    vec3 org, n;
+    hit_frame(s, r, &h, &org, &n);
     const material_t *m = &s->materials[s->prim_material ? s->prim_material[h.prim] : 0];
     vec3 col = v3_scale(m->color, 0.1f);
-    vec3 org = offset_origin(p, n);
     for (uint32_t l = 0; l < s->nlights; l++) {
         vec3 to = v3_sub(s->lights[l], org);
         float dist = v3_len(to);

@@ -10,34 +10,11 @@
 /* rng streams: one per use, so workloads never share random numbers */
 enum { STREAM_PIXEL = 1, STREAM_DIFFUSE = 2, STREAM_RANDOM = 3 };
 
-static inline float ulp_step(float x, int ulps)
+void hit_frame(const scene_t *s, const ray_t *r, const hit_t *h, vec3 *org, vec3 *n)
 {
-    int32_t i;
-    memcpy(&i, &x, sizeof i);
-    i += x < 0.0f ? -ulps : ulps;
-    float r;
-    memcpy(&r, &i, sizeof r);
-    return r;
-}
-
-vec3 offset_origin(vec3 p, vec3 n)
-{
-    /* Near zero an ulp is tiny, so use a fixed absolute step there. */
-    const float near_zero = 1.0f / 32.0f, abs_step = 1.0f / 65536.0f, ulps = 256.0f;
-    float c[3] = {p.x, p.y, p.z}, d[3] = {n.x, n.y, n.z};
-    for (int k = 0; k < 3; k++) {
-        int steps = (int)(ulps * d[k]);
-        float moved = ulp_step(c[k], steps);
-        c[k] = fabsf(c[k]) < near_zero ? c[k] + abs_step * d[k] : moved;
-    }
-    return v3(c[0], c[1], c[2]);
-}
-
-void hit_frame(const scene_t *s, const ray_t *r, const hit_t *h, vec3 *p, vec3 *n)
-{
-    *p = v3_madd(r->org, r->dir, h->t);
-    vec3 g = prim_normal(&s->prims, h, r);
-    *n = v3_dot(g, r->dir) > 0.0f ? v3_scale(g, -1.0f) : g;
+    surface_point sp = prim_surface_point(&s->prims, r, h);
+    *n = v3_dot(sp.normal, r->dir) > 0.0f ? v3_scale(sp.normal, -1.0f) : sp.normal;
+    *org = offset_ray_origin(sp.p, sp.err, *n);
 }
 
 /* Camera frame shared by primary rays: unit forward, and right/up scaled
@@ -130,9 +107,8 @@ static rayset_t *make_shadow(const scene_t *s, accel *ref, const workload_opts *
     rs->width = prim->width, rs->height = prim->height, rs->spp = prim->spp;
     for (uint32_t i = 0; i < prim->count; i++) {
         if (a->hits[i].prim == HIT_NONE) continue;
-        vec3 p, n;
-        hit_frame(s, &prim->rays[i], &a->hits[i], &p, &n);
-        vec3 org = offset_origin(p, n);
+        vec3 org, n;
+        hit_frame(s, &prim->rays[i], &a->hits[i], &org, &n);
         for (uint32_t l = 0; l < s->nlights; l++) {
             vec3 to = v3_sub(s->lights[l], org);
             float dist = v3_len(to);
@@ -162,9 +138,9 @@ static rayset_t *make_reflection(const scene_t *s, accel *ref, const workload_op
         next->width = gen->width; /* keep pixel tracking on */
         for (uint32_t i = 0; i < gen->count; i++) {
             if (a->hits[i].prim == HIT_NONE) continue;
-            vec3 p, n;
-            hit_frame(s, &gen->rays[i], &a->hits[i], &p, &n);
-            ray_t r = {offset_origin(p, n), 0.0f, v3_norm(reflect(gen->rays[i].dir, n)), INFINITY, RAY_NO_LIGHT, 0};
+            vec3 org, n;
+            hit_frame(s, &gen->rays[i], &a->hits[i], &org, &n);
+            ray_t r = {org, 0.0f, v3_norm(reflect(gen->rays[i].dir, n)), INFINITY, RAY_NO_LIGHT, 0};
             rayset_push(next, &r, gen->pixel[i]);
             rayset_push(rs, &r, gen->pixel[i]);
         }
@@ -196,10 +172,10 @@ static rayset_t *make_diffuse(const scene_t *s, accel *ref, const workload_opts 
     rs->width = prim->width, rs->height = prim->height, rs->spp = prim->spp;
     for (uint32_t i = 0; i < prim->count; i++) {
         if (a->hits[i].prim == HIT_NONE) continue;
-        vec3 p, n;
-        hit_frame(s, &prim->rays[i], &a->hits[i], &p, &n);
+        vec3 org, n;
+        hit_frame(s, &prim->rays[i], &a->hits[i], &org, &n);
         vec3 d = cosine_dir(n, rng_float(o->seed, STREAM_DIFFUSE, i, 0), rng_float(o->seed, STREAM_DIFFUSE, i, 1));
-        ray_t r = {offset_origin(p, n), 0.0f, d, INFINITY, RAY_NO_LIGHT, 0};
+        ray_t r = {org, 0.0f, d, INFINITY, RAY_NO_LIGHT, 0};
         rayset_push(rs, &r, prim->pixel[i]);
     }
     answers_free(a);

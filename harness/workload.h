@@ -43,13 +43,11 @@ const workload_def *workload_find(const char *name);
 /* Primary rays alone (also used by the renderer). */
 rayset_t *workload_primary(const scene_t *s, const workload_opts *o);
 
-/* Move a surface point off its surface along the facing normal n by a few
- * hundred ulps of its coordinates, so rays leaving it do not hit the
- * surface they start on (Waechter and Binder, "A Fast and Robust Method
- * for Avoiding Self-Intersection", Ray Tracing Gems, ch. 6). */
-vec3 offset_origin(vec3 p, vec3 n);
-
-/* The hit point and the unit geometric normal turned to face the ray. */
-void hit_frame(const scene_t *s, const ray_t *r, const hit_t *h, vec3 *p, vec3 *n);
+/* Where secondary rays leave a hit: the origin, on the incoming ray's side
+ * of the surface in exact arithmetic (prim_surface_point and
+ * offset_ray_origin: pbrt-v4's error bounds), and the unit geometric normal
+ * turned to face the incoming ray. Every workload and the renderer spawn
+ * through this one function. */
+void hit_frame(const scene_t *s, const ray_t *r, const hit_t *h, vec3 *org, vec3 *n);
 
 #endif

@@ -144,10 +144,31 @@ bool prim_occluded(const prims_t *p, uint32_t id, const ray_t *ray, counters_t *
 /* Unit geometric normal at a hit (not flipped toward the ray). */
 vec3 prim_normal(const prims_t *p, const hit_t *hit, const ray_t *ray);
 
+/* --- spawning secondary rays (surface.c) --- */
+
+/* A hit point recomputed on the primitive's own surface, with a
+ * conservative bound on the rounding error of each coordinate (pbrt-v4's
+ * error-bound method, PBR 4th ed. s6.8.5) and the unit geometric normal
+ * there (not flipped toward the ray). */
+typedef struct { vec3 p, err, normal; } surface_point;
+/* From the ray's parameterisation point o + t d at hit->t: triangles and
+ * polygons (through the ear triangle that contains it) by barycentrics
+ * clamped onto the primitive, spheres as centre + r n, cones in their axis
+ * frame. */
+surface_point prim_surface_point(const prims_t *p, const ray_t *ray, const hit_t *hit);
+/* pbrt-v4's OffsetRayOrigin (PBR 4th ed. s6.8.6): p moved along the unit
+ * normal n (pointing to the side the new ray leaves toward) by the error
+ * box's extent along n, every coordinate rounded one more float step away
+ * from the surface. The result lies strictly on n's side of the surface in
+ * exact arithmetic. */
+vec3 offset_ray_origin(vec3 p, vec3 err, vec3 n);
+
 /* --- for verification only (never counted, never used to trace) --- */
 
 /* Double-precision test of one primitive: the nearest t in
- * [ray->tnear, ray->tfar) or returns false. The arbiter for disputed rays. */
+ * [ray->tnear, ray->tfar) or returns false. An independent check for the
+ * primitive tests' own tests; verify's judge of disputed rays is exact
+ * (harness/judge.h). */
 bool prim_intersect_double(const prims_t *p, uint32_t id, const ray_t *ray, double *t);
 /* How close the point at distance t on the ray is to the boundary of the
  * primitive, in world units: for a triangle or polygon the distance to its

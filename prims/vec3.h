@@ -1,7 +1,8 @@
 /* vec3.h: the small 3-vector and box math every part of accelbench uses.
  *
  * Single precision, because that is what the accelerators and Embree trace
- * with; dvec3 (double) exists only for the verification arbiter in prims/. */
+ * with; dvec3 (double) serves prims/'s double-precision checks and the
+ * surface points that secondary rays leave from (surface.c). */
 #ifndef ACCELBENCH_VEC3_H
 #define ACCELBENCH_VEC3_H
 

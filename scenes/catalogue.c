@@ -134,6 +134,10 @@ void scene_catalogue_print(FILE *out)
         fprintf(out, "  %-14s size 1..%-2d default %-2d  %s  (%s)\n", label, g->max_size, g->default_size, g->summary,
                 g->file);
     }
+    fprintf(out, "generated (built in):\n"
+                 "  gen:room        a 10000x8000x600 hall at coordinates in the thousands: decals, slivers, needles,\n"
+                 "                  spheres, a column; the secondary-ray robustness test\n"
+                 "  gen:room:empty  its convex shell with decals and corner slivers only: nothing can cast a shadow\n");
     fprintf(out, "meshes:\n");
     for (size_t i = 0; i < CATALOGUE_N; i++) {
         const catalogue_entry *e = &catalogue[i];
@@ -254,6 +258,12 @@ scene_t *scene_load(const char *name, char *err, size_t errlen)
         return NULL;
     }
     if (strncmp(name, "spd:", 4) == 0) return load_spd(name, err, errlen);
+    if (strcmp(name, "gen:room") == 0 || strcmp(name, "gen:room:empty") == 0)
+        return scene_gen_room(name, name[8] != '\0', err, errlen);
+    if (strncmp(name, "gen:", 4) == 0) {
+        snprintf(err, errlen, "unknown generated scene '%s' (known: gen:room, gen:room:empty)", name);
+        return NULL;
+    }
     if (strncmp(name, "set:", 4) == 0) {
         char list[8];
         if (scene_set_expand(name, list, sizeof list) != 0)

@@ -104,6 +104,14 @@ uint64_t spd_balls_sphere_count(int size);
  * be 1..12", or too many primitives for the store. */
 scene_t *scene_spd(const char *name, const char *generator, int size, int tess_res, char *err, size_t errlen);
 
+/* gen:room and gen:room:empty (gen_room.c): a 10000 x 8000 x 600 hall with
+ * x and z in the thousands and the floor near height 0, no plane axis-aligned, with coplanar
+ * overlapping decals, sliver trims along the corners and (unless empty)
+ * needles, a slanted panel, a box, two spheres and a cylinder column; two
+ * lights inside. The empty one is convex and lit from inside: nothing in it
+ * can shadow anything. */
+scene_t *scene_gen_room(const char *name, bool empty, char *err, size_t errlen);
+
 /* Named sets of scenes for the scaling plots: for a set name ("set:medium",
  * "set:spd", "set:scaling", "set:scaling:FAMILY"; scene_catalogue_print
  * lists them) write its comma-separated scene names into out and return 1;

@@ -67,7 +67,7 @@ expect 2 "not an accelbench ray file" -- "$AB" verify --scenes spd:balls:1 --ray
 rc=$?
 [ $rc = 0 ] && ok || { bad "run exit $rc"; tail "$T/run.log" >&2; }
 csv="$T/run/matrix.csv"
-header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,serial,res,spp,repeat,passes,git_rev,machine,cpu,date"
+header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,mismatch_origin,mismatch_unjudged,illposed_rays,judge_ms,serial,res,spp,repeat,passes,git_rev,machine,cpu,date"
 [ "$(head -1 "$csv")" = "$header" ] && ok || bad "CSV header: $(head -1 "$csv")"
 rows=$(($(wc -l < "$csv") - 1))
 [ "$rows" = 20 ] && ok || bad "CSV has $rows rows, want 2 scenes x 2 accels x 5 workloads = 20"
@@ -87,7 +87,30 @@ ls "$T"/run/*mrays*.png > /dev/null 2>&1 && ok || bad "no plots written next to 
 
 # --- verify, listing and replay
 expect 0 "spd:balls:1 +shadow +exhaustive" -- "$AB" verify --scenes spd:balls:1 --res 24x24
-expect 0 "exact\(f64\)" -- "$AB" verify --scenes spd:balls:1 --workloads primary --res 24x24 --ray 100
+# --ray prints the exact judge's t beside every answer: a root with sqrt for a sphere, a rational for a triangle
+expect 0 "judge on prim [0-9]+: [0-9.e+-]+ = .*sqrt" -- "$AB" verify --scenes spd:balls:1 --workloads primary --res 24x24 --ray 300 --accels exhaustive
+expect 0 "judge on prim [0-9]+: [0-9.e+-]+ = -?[0-9]+/[0-9]+" -- "$AB" verify --scenes spd:balls:1:t --workloads primary --res 24x24 --ray 300 --accels exhaustive
+expect 0 "judge +prim [0-9]+ t=[0-9.e+-]+ = " -- "$AB" verify --scenes spd:balls:1:t --workloads primary --res 24x24 --ray 300 --accels exhaustive
+expect 2 "--judge-seconds -1" -- "$AB" verify --scenes spd:balls:1 --judge-seconds -1
+
+# The replay line carries every option that shaped the ray set and the non-default parameters: run as printed,
+# it replays the same ray set (same hash) and the same answer; the table stays aligned with long labels.
+"$AB" verify --scenes gen:room --workloads random --res 80x80 --seed 7 --accels cgal-aabb,grid-raybox \
+    --param cgal-aabb.kernel=epick --param grid-raybox.mtf=off --param grid-raybox.res=20x20x20 \
+    --save-rays "$T/gr.rays" > "$T/gr.out" 2> "$T/gr.err"
+line=$(grep -m1 'replay: accelbench verify .*--accels grid-raybox' "$T/gr.out")
+case "$line" in
+    *"--res 80x80 --spp 1 --seed 7 --depth 3 --accels grid-raybox --param grid-raybox.res=20x20x20 --param grid-raybox.mtf=off --ray "*) ok ;;
+    *) bad "replay line lacks the options that made the ray set: '$line'" ;;
+esac
+saved=$(grep -o 'hash [0-9a-f]*' "$T/gr.err" | awk '{print $2}')
+prim=$(grep -B1 -m1 'replay: accelbench verify .*--accels grid-raybox' "$T/gr.out" | head -1 | sed -n 's/.*grid-raybox: prim \([0-9]*\).*/\1/p')
+read -r -a words <<< "${line#*replay: accelbench }"
+"$AB" "${words[@]}" > "$T/gr.replay" 2>&1
+grep -q "(hash $saved)" "$T/gr.replay" && ok || bad "replayed ray set is not the listed one (want hash $saved)"
+[ -n "$prim" ] && grep -qE "^ +grid-raybox +prim $prim " "$T/gr.replay" && ok || bad "replayed answer is not the listed one (prim '$prim')"
+widths=$(grep -E '^(scene|gen:room) ' "$T/gr.out" | awk '{print length($0)}' | sort -u | wc -l)
+[ "$widths" = 1 ] && ok || bad "verify table rows have $widths different widths"
 expect 2 "has 576 rays" -- "$AB" verify --scenes spd:balls:1 --workloads primary --res 24x24 --ray 999999
 
 # --- ray files: save, replay, same hash and answers
@@ -111,7 +134,7 @@ expect 0 "wrote $T/g.nff" -- "$AB" scene export spd:gears:2 --nff "$T/g.nff"
 h_gen=$("$AB" scene info spd:gears:2 | awk '/^hash/ {print $2}')
 h_nff=$("$AB" scene info "$T/g.nff" | awk '/^hash/ {print $2}')
 [ -n "$h_gen" ] && [ "$h_gen" = "$h_nff" ] && ok || bad "NFF round trip hash $h_gen != $h_nff"
-expect 0 "spd:tree:2 +primary +exhaustive +[0-9]+ +[0-9]+ +0 +0 +0 +0" -- "$AB" verify --scenes spd:tree:2 --workloads primary --res 16x16
+expect 0 "spd:tree:2 +primary +exhaustive +[0-9]+ +0 +[0-9]+ +0 +0 +0 +0 +0 +0" -- "$AB" verify --scenes spd:tree:2 --workloads primary --res 16x16
 printf 's 0 0 0 1\np 3\n0 0 0\n1 0 0\n' > "$T/bad.nff"
 expect 2 "$T/bad.nff:4:" -- "$AB" scene info "$T/bad.nff"
 expect 2 "usage: accelbench scene export" -- "$AB" scene export spd:balls:1

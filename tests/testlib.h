@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include "accel/accel.h"
 #include "harness/trace.h"
+#include "harness/verify.h"
 #include "harness/workload.h"
 #include "check.h"
 
@@ -53,6 +54,39 @@ static inline answers_t *test_trace(accel *a, const rayset_t *rs, int threads)
     answers_t *ans = answers_new(rs, false);
     trace_rayset(a, rs, threads, ans);
     return ans;
+}
+
+/* Every workload at res x res through accelerator a and the reference ref,
+ * one printed line each: the ray set is not empty, the reference hits
+ * something (else the check proves nothing), no real mismatch, and at
+ * least 99.9 % of the rays agree outright. */
+static inline void test_workloads_agree(const scene_t *s, accel *ref, accel *a, int res, const char *label)
+{
+    workload_opts o = test_wl(res, res, 2);
+    int threads = (a->ops->flags & ACCEL_MUTATES) ? 1 : 2;
+    for (int w = 0; workload_table[w].name; w++) {
+        const char *wl = workload_table[w].name;
+        rayset_t *rs = workload_table[w].make(s, ref, &o);
+        answers_t *want = test_trace(ref, rs, 2), *got = test_trace(a, rs, threads);
+        verify_result vr;
+        verify_answers(s, rs, got, want, &vr);
+        uint64_t hits = 0;
+        for (uint32_t i = 0; i < rs->count; i++)
+            hits += rs->query == QUERY_ANY ? want->occluded[i] : want->hits[i].prim != HIT_NONE;
+        printf("%-16s %-22s %-10s rays %6u hits %6llu agree %6llu", s->name, label, wl, rs->count,
+               (unsigned long long)hits, (unsigned long long)vr.agree);
+        for (int c = 0; c < MM_CLASSES; c++) printf(" %s %llu", mismatch_class_name[c], (unsigned long long)vr.mismatches[c]);
+        printf("\n");
+        CHECK_MSG(rs->count > 0, "%s %s: empty ray set", s->name, wl);
+        CHECK_MSG(hits > 0, "%s %s: the reference hit nothing; the test would prove nothing", s->name, wl);
+        CHECK_MSG(vr.mismatches[MM_REAL] == 0, "%s %s %s: %llu real mismatches", s->name, label, wl,
+                  (unsigned long long)vr.mismatches[MM_REAL]);
+        CHECK_MSG(vr.agree * 1000 >= (uint64_t)rs->count * 999, "%s %s %s: only %llu of %u agree", s->name, label, wl,
+                  (unsigned long long)vr.agree, rs->count);
+        answers_free(want);
+        answers_free(got);
+        rayset_free(rs);
+    }
 }
 
 #endif

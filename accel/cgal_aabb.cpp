@@ -1,0 +1,382 @@
+/* cgal_aabb.cpp: CGAL's AABB_tree (CGAL 5.5, Debian's libcgal-dev) as a peer.
+ *
+ * Paper: P. Alliez, S. Tayeb, C. Wormser, "3D Fast Intersection and Distance
+ * Computation (AABB Tree)", CGAL User and Reference Manual, AABB Tree
+ * package: section "Interface" (first_intersection() for ray shooting,
+ * do_intersect()), "Trees of Custom Primitives" (the AABBPrimitive(With
+ * SharedData) concepts used below) and "Implementation Details".
+ *
+ * What CGAL 5.5 really builds (AABB_tree.h expand(), AABB_traits.h
+ * Split_primitives): a binary tree, top down, ONE primitive per leaf. At
+ * each node the box is the union of its primitives' bounding boxes; the
+ * primitives are partitioned by std::nth_element on their reference point
+ * (a triangle's first vertex) along the longest axis of that box, and split
+ * into two halves of equal count (floor(n/2) left): an object-median split,
+ * no SAH, no spatial median. A node whose children are leaves points at the
+ * primitives directly; n primitives make n - 1 nodes.
+ * Queries: first_intersection(Ray_3) (internal/AABB_tree/AABB_ray_
+ * intersection.h) is best-first: a heap of nodes keyed by the slab-test
+ * entry distance (Traits::Intersection_distance), every leaf primitive
+ * tested with Traits::Intersection (no box test for leaves), ray parameters
+ * compared on the dominant axis of the ray's vector; it stops when the
+ * heap's top is not nearer than the best hit. do_intersect(Segment_3|Ray_3)
+ * is depth-first, left child first, stopping at the first
+ * Traits::Do_intersect(query, primitive) that says yes; node boxes are
+ * tested with Do_intersect(query, Bbox_3) (the kernel's exact-predicate or
+ * double box test).
+ *
+ * Primitives, one tree for all kinds (a mixed tree):
+ *   triangles  a kernel Triangle_3 (vertices converted float -> double,
+ *              exact); zero-area ones (prims' tri_degenerate, or the
+ *              kernel's is_degenerate) are left out
+ *   polygons   each of their ear-clipping triangles (prims_t.poly_tris) as
+ *              a Triangle_3 whose id is the polygon; degenerate polygons
+ *              and zero-area ears are left out
+ *   spheres,   a custom primitive whose datum is its bounding box
+ *   cones      (prims' bounds) and whose reference point is the box centre;
+ *              the traits' Intersection / Do_intersect call prims/
+ *              (prim_intersect / prim_occluded) with the float ray. CGAL's
+ *              functors see only (query, primitive), so the float ray rides
+ *              in a thread_local pointer set by each query (queries run on
+ *              several threads; CGAL runs a query on its caller's thread).
+ *              The intersection is reported to CGAL as the point
+ *              org + t*dir, from which CGAL (and we) read t back.
+ * The traits class derives from CGAL::AABB_traits and shadows the three
+ * names the tree uses for this: Intersection_and_primitive_id,
+ * Intersection (+ intersection_object) and Do_intersect (+
+ * do_intersect_object); node boxes, the build and the ray/box distance are
+ * CGAL's own.
+ *
+ * Rays (prims/ray.h): closest hit = first_intersection of the Ray_3 from
+ * org + tnear*dir (org when tnear == 0) along dir; t = dot(p - org, dir) /
+ * dot(dir, dir) of the intersection point p (a Segment_3, for a ray in a
+ * triangle's plane: its endpoint nearest the origin); a first intersection
+ * with t >= tfar is a miss (the whole ray is searched, then clipped). Any
+ * hit = do_intersect of the Segment_3 org+tnear*dir .. org+tfar*dir (a Ray_3
+ * when tfar is infinite); the segment is closed, prims/ is half-open: a hit
+ * exactly at tfar is float noise either way. u = v = 0.
+ * first_intersection is not exact (CGAL issue #1822, PR #3766: candidate
+ * points are constructed, in doubles even with epick); its mismatches are
+ * reported by verify like anyone's.
+ *
+ * Parameters (default first):
+ *   kernel = simple | epick   simple: CGAL::Simple_cartesian<double> (what
+ *                             most users run; every predicate in doubles);
+ *                             epick: Exact_predicates_inexact_constructions_
+ *                             kernel (filtered exact predicates, double
+ *                             constructions)
+ *
+ * Memory layout (sizes measured with g++ 12 / CGAL 5.5, the same for both
+ * kernels; static_asserts below keep them honest):
+ *   primitives  std::vector<Prim> inside the tree, 8 bytes each: scene id
+ *               (uint32) and slot (uint32: index into tris, or NOT_TRI for
+ *               a sphere or cone). Filled by push_back (AABB_tree has no
+ *               reserve), so its capacity is the next power of two (libstdc++
+ *               doubles): memory() counts the capacity.
+ *   nodes       std::vector<AABB_node>, n - 1 of them (CGAL reserves exactly),
+ *               64 bytes each: Bbox_3 (6 doubles, 48) + two pointers (to
+ *               child nodes, or straight to the child primitives).
+ *   tris        std::vector<Triangle_3> (reserved exactly), 72 bytes each (3
+ *               double points): the scene's triangles and polygon ears,
+ *               which CGAL needs in its own number type.
+ *   Spheres and cones hold nothing beyond their 8-byte primitive: bounds
+ *   and geometry are read from the scene's store.
+ * Counters: CGAL's work is not observable (ACCEL_OPAQUE).
+ * Context: none (NULL); the tree is built completely in build(), never lazily
+ * (tree.build() is called there), so concurrent queries only read it. */
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Simple_cartesian.h>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <new>
+#include <vector>
+#include "accel.h"
+
+namespace {
+
+const uint32_t NOT_TRI = UINT32_MAX;
+
+/* The float ray of the query running on this thread (see the header). */
+thread_local const ray_t *tl_ray;
+
+template <class K> struct Side; /* what the primitives point into */
+
+/* What the tree reads of a primitive to build: its bounding box. */
+struct Box_datum {
+    CGAL::Bbox_3 box;
+    CGAL::Bbox_3 bbox() const { return box; }
+};
+
+/* A tree primitive (concept AABBPrimitiveWithSharedData): 8 bytes, the
+ * geometry comes from the shared Side. */
+template <class K> struct Prim {
+    typedef uint32_t Id;                 /* scene primitive id */
+    typedef typename K::Point_3 Point;
+    typedef Box_datum Datum;
+    typedef const Side<K> *Shared_data;
+    uint32_t id_ = 0, slot_ = NOT_TRI;   /* slot: index into Side::tris, or NOT_TRI (sphere, cone) */
+
+    Prim() = default;
+    Prim(uint32_t id, uint32_t slot) : id_(id), slot_(slot) {}
+    Id id() const { return id_; }
+    Datum datum(Shared_data s) const;
+    Point reference_point(Shared_data s) const;
+    static Shared_data construct_shared_data(Shared_data s) { return s; }
+};
+static_assert(sizeof(Prim<CGAL::Epick>) == 8, "primitive size in the header");
+
+template <class K> struct Side {
+    const prims_t *prims;
+    std::vector<typename K::Triangle_3> tris;
+};
+
+inline CGAL::Bbox_3 to_bbox(box3 b) { return CGAL::Bbox_3(b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z); }
+
+template <class K> Box_datum Prim<K>::datum(Shared_data s) const
+{
+    return Box_datum{slot_ != NOT_TRI ? s->tris[slot_].bbox() : to_bbox(prim_bounds(s->prims, id_))};
+}
+
+/* CGAL's triangle primitive splits on the first vertex; a sphere or cone on
+ * its box centre. */
+template <class K> typename K::Point_3 Prim<K>::reference_point(Shared_data s) const
+{
+    if (slot_ != NOT_TRI) return s->tris[slot_].vertex(0);
+    CGAL::Bbox_3 b = to_bbox(prim_bounds(s->prims, id_));
+    return typename K::Point_3((b.xmin() + b.xmax()) / 2, (b.ymin() + b.ymax()) / 2, (b.zmin() + b.zmax()) / 2);
+}
+
+template <class K> struct Traits : CGAL::AABB_traits<K, Prim<K>> {
+    typedef typename K::Point_3 Point_3;
+    typedef typename K::Ray_3 Ray_3;
+    typedef typename K::Triangle_3 Triangle_3;
+    /* The kernel's Ray_3 x Triangle_3 result, optional<variant<Point_3,
+     * Segment_3>>; spheres and cones report a Point_3 in it too. */
+    typedef decltype(K().intersect_3_object()(std::declval<Ray_3>(), std::declval<Triangle_3>())) Tri_result;
+
+    template <class Query> struct Intersection_and_primitive_id {
+        typedef std::pair<typename Tri_result::value_type, uint32_t> Type;
+    };
+    typedef typename Intersection_and_primitive_id<Ray_3>::Type Hit;
+
+    /* Used by first_intersection for every leaf primitive. */
+    class Intersection {
+        const Traits &tr;
+    public:
+        explicit Intersection(const Traits &t) : tr(t) {}
+        boost::optional<Hit> operator()(const Ray_3 &q, const Prim<K> &p) const
+        {
+            const Side<K> *s = tr.shared_data();
+            if (p.slot_ != NOT_TRI) {
+                Tri_result r = K().intersect_3_object()(q, s->tris[p.slot_]);
+                if (!r) return boost::none;
+                return Hit(*r, p.id_);
+            }
+            const ray_t *r = tl_ray;
+            hit_t h = hit_none(r);
+            counters_t unused = {};
+            if (!prim_intersect(s->prims, p.id_, r, &h, &unused)) return boost::none;
+            double t = h.t;
+            Point_3 at(r->org.x + t * r->dir.x, r->org.y + t * r->dir.y, r->org.z + t * r->dir.z);
+            return Hit(at, p.id_);
+        }
+    };
+    Intersection intersection_object() const { return Intersection(*this); }
+
+    /* Used by do_intersect for node boxes and leaf primitives. */
+    class Do_intersect {
+        const Traits &tr;
+    public:
+        explicit Do_intersect(const Traits &t) : tr(t) {}
+        template <class Query> bool operator()(const Query &q, const CGAL::Bbox_3 &b) const
+        {
+            return K().do_intersect_3_object()(q, b);
+        }
+        template <class Query> bool operator()(const Query &q, const Prim<K> &p) const
+        {
+            const Side<K> *s = tr.shared_data();
+            if (p.slot_ != NOT_TRI) return K().do_intersect_3_object()(q, s->tris[p.slot_]);
+            counters_t unused = {};
+            return prim_occluded(s->prims, p.id_, tl_ray, &unused);
+        }
+    };
+    Do_intersect do_intersect_object() const { return Do_intersect(*this); }
+};
+
+/* The kernel-independent face of a tree, for the C functions below. */
+struct Tree_base {
+    virtual ~Tree_base() {}
+    virtual bool intersect(const ray_t *r, hit_t *hit) const = 0;
+    virtual bool occluded(const ray_t *r) const = 0;
+    virtual size_t memory() const = 0;
+};
+
+template <class K> struct Tree final : Tree_base {
+    typedef typename K::Point_3 Point_3;
+    typedef typename K::Vector_3 Vector_3;
+    typedef CGAL::AABB_tree<Traits<K>> Aabb;
+    Side<K> side;
+    Aabb tree;
+    static_assert(sizeof(CGAL::AABB_node<Traits<K>>) == 64 && sizeof(typename K::Triangle_3) == 72,
+                  "node and triangle sizes in the header");
+
+    explicit Tree(const prims_t *p)
+    {
+        side.prims = p;
+        const prims_t &P = *p;
+        size_t ntri = 0;
+        for (uint32_t id = 0; id < P.count; id++) {
+            if (P.kind[id] == PRIM_TRIANGLE) ntri++;
+            if (P.kind[id] == PRIM_POLYGON) ntri += P.polygons[P.index[id]].count - 2;
+        }
+        side.tris.reserve(ntri);
+        auto add_tri = [&](uint32_t id, const tri_t &t) {
+            auto pt = [&](uint32_t v) { return Point_3(P.verts[v].x, P.verts[v].y, P.verts[v].z); };
+            typename K::Triangle_3 tri(pt(t.v[0]), pt(t.v[1]), pt(t.v[2]));
+            if (tri.is_degenerate()) return; /* CGAL's triangle predicates require a proper triangle */
+            side.tris.push_back(tri);
+            tree.insert(Prim<K>(id, (uint32_t)(side.tris.size() - 1)));
+        };
+        for (uint32_t id = 0; id < P.count; id++) {
+            uint32_t k = P.index[id];
+            switch (P.kind[id]) {
+            case PRIM_TRIANGLE:
+                if (!P.tri_degenerate[k]) add_tri(id, P.tris[k]);
+                break;
+            case PRIM_POLYGON: {
+                const polygon_t &g = P.polygons[k];
+                if (g.degenerate) break;
+                for (uint32_t j = 0; j + 2 < g.count; j++) add_tri(id, P.poly_tris[g.tri_first + j]);
+                break;
+            }
+            default: /* sphere, cone: tested by prims/ */
+                tree.insert(Prim<K>(id, NOT_TRI));
+            }
+        }
+        tree.build(&side); /* sets the shared data and builds now, not at the first query */
+    }
+
+    bool intersect(const ray_t *r, hit_t *hit) const override
+    {
+        tl_ray = r;
+        const Point_3 org(r->org.x, r->org.y, r->org.z);
+        const Vector_3 dir(r->dir.x, r->dir.y, r->dir.z);
+        const Point_3 start = r->tnear > 0 ? org + (double)r->tnear * dir : org;
+        auto res = tree.first_intersection(typename K::Ray_3(start, dir));
+        if (!res) return false;
+        const double dd = dir.squared_length();
+        auto param = [&](const Point_3 &p) { return ((p - org) * dir) / dd; };
+        double t;
+        if (const Point_3 *p = boost::get<Point_3>(&res->first))
+            t = param(*p);
+        else { /* a Segment_3: the ray lies in the triangle's plane */
+            const typename K::Segment_3 &s = boost::get<typename K::Segment_3>(res->first);
+            t = std::min(param(s.source()), param(s.target()));
+        }
+        float ft = std::max((float)t, r->tnear); /* rounding may put a hit at tnear just below it */
+        if (!(ft < r->tfar)) return false;
+        hit->t = ft;
+        hit->u = hit->v = 0.0f;
+        hit->prim = res->second;
+        return true;
+    }
+
+    bool occluded(const ray_t *r) const override
+    {
+        tl_ray = r;
+        const Point_3 org(r->org.x, r->org.y, r->org.z);
+        const Vector_3 dir(r->dir.x, r->dir.y, r->dir.z);
+        const Point_3 start = r->tnear > 0 ? org + (double)r->tnear * dir : org;
+        if (std::isinf(r->tfar)) return tree.do_intersect(typename K::Ray_3(start, dir));
+        return tree.do_intersect(typename K::Segment_3(start, org + (double)r->tfar * dir));
+    }
+
+    size_t memory() const override
+    {
+        size_t n = tree.size(), cap = 1;
+        while (cap < n) cap *= 2; /* the primitive vector's capacity after n push_backs */
+        return (n ? cap : 0) * sizeof(Prim<K>) + (n > 1 ? n - 1 : 0) * sizeof(CGAL::AABB_node<Traits<K>>) +
+               side.tris.capacity() * sizeof(typename K::Triangle_3);
+    }
+};
+
+struct cgal_accel {
+    accel base; /* first: the harness sees a struct accel */
+    Tree_base *tree;
+};
+
+const accel_param cgal_params[] = {
+    {"kernel", "simple", "CGAL kernel: simple (Simple_cartesian<double>)|epick (Exact_predicates_inexact_constructions_kernel)"},
+    {NULL, NULL, NULL},
+};
+
+accel *cgal_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+{
+    static const char *const kernels[] = {"simple", "epick", NULL};
+    int kernel;
+    if (params_get_choice(params, "kernel", kernels, &kernel, err, errlen)) return NULL;
+    cgal_accel *a = new (std::nothrow) cgal_accel();
+    if (!a) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    a->base.scene = scene;
+    try { /* no C++ exception may cross into C */
+        if (kernel == 0)
+            a->tree = new Tree<CGAL::Simple_cartesian<double>>(&scene->prims);
+        else
+            a->tree = new Tree<CGAL::Epick>(&scene->prims);
+    } catch (const std::bad_alloc &) {
+        snprintf(err, errlen, "out of memory building the AABB tree over %u primitives", scene->prims.count);
+        delete a;
+        return NULL;
+    } catch (const std::exception &e) {
+        snprintf(err, errlen, "CGAL: %s", e.what());
+        delete a;
+        return NULL;
+    }
+    return &a->base;
+}
+
+/* Queries allocate (first_intersection's heap); an exception there ends the
+ * program (noexcept) rather than unwinding through C. */
+bool cgal_intersect(accel *a, accel_ctx *, const ray_t *ray, hit_t *hit, counters_t *) noexcept
+{
+    return ((cgal_accel *)a)->tree->intersect(ray, hit);
+}
+
+bool cgal_occluded(accel *a, accel_ctx *, const ray_t *ray, counters_t *) noexcept
+{
+    return ((cgal_accel *)a)->tree->occluded(ray);
+}
+
+size_t cgal_memory(const accel *a) { return ((const cgal_accel *)a)->tree->memory(); }
+
+void cgal_destroy(accel *a)
+{
+    cgal_accel *c = (cgal_accel *)a;
+    delete c->tree;
+    delete c;
+}
+
+} // namespace
+
+extern "C" const struct accel_ops accel_cgal_aabb = {
+    /* .version = */ 1,
+    /* .name = */ "cgal-aabb",
+    /* .summary = */ "CGAL 5.5 AABB_tree: object-median BVH, one primitive per leaf, best-first first_intersection",
+    /* .paper = */ "Alliez, Tayeb, Wormser, 3D Fast Intersection and Distance Computation (AABB Tree), CGAL User and "
+                   "Reference Manual, AABB Tree package: Interface, Implementation Details",
+    /* .params = */ cgal_params,
+    /* .flags = */ ACCEL_OPAQUE,
+    /* .build = */ cgal_build,
+    /* .context_new = */ NULL,
+    /* .context_free = */ NULL,
+    /* .intersect = */ cgal_intersect,
+    /* .occluded = */ cgal_occluded,
+    /* .memory = */ cgal_memory,
+    /* .destroy = */ cgal_destroy,
+};
