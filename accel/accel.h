@@ -9,6 +9,11 @@
  * An implementation "subclasses" struct accel by putting it first in its own
  * struct and casting. It reaches primitives only through prims/prims.h.
  *
+ * Who fills what: the implementation fills its static accel_ops and, in
+ * build(), everything of its own object; accel_build() (registry.c), the
+ * one way to build, checks the table's version, calls build() and then sets
+ * the base's ops and scene. Nothing else sets them.
+ *
  * Counters: implementations bump box_tests (every ray/box, node, voxel or
  * ray-box crossing test), steps (every node popped or voxel entered),
  * empty_leaves (leaves or voxels entered that hold no primitive) and
@@ -45,8 +50,19 @@ enum accel_flag {
 typedef struct accel accel;
 typedef struct accel_ctx accel_ctx; /* per-thread scratch, opaque to the harness */
 
+/* The newest interface version; tables of an older version end where it
+ * did (their later methods are NULL and the harness does without them). */
+#define ACCEL_OPS_VERSION 2
+
+/* A named build statistic (version 2 stats()). The names an accelerator may
+ * use are accel_stat_names[] (registry.c), so the CSV has one fixed column
+ * stat_NAME for each and the conformance suite refuses a name not listed. */
+typedef struct { const char *name; double value; } accel_stat;
+#define ACCEL_STATS_MAX 16
+extern const char *const accel_stat_names[]; /* NULL-terminated */
+
 struct accel_ops {
-    int version; /* 1 */
+    int version; /* 1 or 2: which of the methods below exist */
     const char *name;    /* command-line name, e.g. "grid" */
     const char *summary; /* one line */
     const char *paper;   /* citation with section */
@@ -73,6 +89,28 @@ struct accel_ops {
     /* Bytes held by the structure, not counting the scene's primitives. */
     size_t (*memory)(const accel *a);
     void (*destroy)(accel *a);
+
+    /* --- version 2 --- */
+
+    /* Build statistics, owned by the accelerator: writes at most max of
+     * them, returns how many; NULL when it has none. Names from
+     * accel_stat_names[] (nodes, leaves, max_depth, ...); lazy_build_ms is
+     * the time spent building while tracing since the last reset. */
+    int (*stats)(const accel *a, accel_stat *out, int max);
+    /* Return a self-mutating structure (move-to-front lists, a lazily built
+     * classification) to its state right after build(), so that every
+     * timed sample starts from the same state. NULL when tracing changes
+     * nothing; an ACCEL_MUTATES accelerator must have it. */
+    void (*reset)(accel *a);
+    /* Bounds of everything the structure holds, so that an accelerator can
+     * serve as a primitive of another (Kirk and Arvo's meta hierarchy,
+     * survey s12). NULL: the scene's bounds. */
+    box3 (*bounds)(const accel *a);
+    /* The same queries with the counting compiled out, for the timed
+     * samples (the warm-up counts through intersect and occluded). NULL:
+     * the harness times the counting methods and says so in the CSV. */
+    bool (*intersect_fast)(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit);
+    bool (*occluded_fast)(accel *a, accel_ctx *ctx, const ray_t *ray);
 };
 
 /* The base of every accelerator object. */
@@ -84,6 +122,16 @@ struct accel {
 /* Registry (registry.c). */
 extern const struct accel_ops *const accel_registry[];
 const struct accel_ops *accel_find(const char *name);
+
+/* Build ops over scene with resolved parameters: checks the table (version
+ * 1..ACCEL_OPS_VERSION, the methods its version and flags require), builds
+ * and sets the base's ops and scene. NULL with a one-line reason in err. */
+accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const accel_params *params, char *err,
+                   size_t errlen);
+/* The accelerator's bounds (its bounds() or the scene's). */
+box3 accel_bounds(const accel *a);
+/* Its statistics (stats() or none), checked against accel_stat_names[]. */
+int accel_stats(const accel *a, accel_stat *out, int max);
 
 #ifdef __cplusplus
 }

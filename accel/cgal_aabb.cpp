@@ -212,6 +212,7 @@ struct Tree_base {
     virtual bool intersect(const ray_t *r, hit_t *hit) const = 0;
     virtual bool occluded(const ray_t *r) const = 0;
     virtual size_t memory() const = 0;
+    virtual size_t size() const = 0;
 };
 
 template <class K> struct Tree final : Tree_base {
@@ -294,6 +295,8 @@ template <class K> struct Tree final : Tree_base {
         return tree.do_intersect(typename K::Segment_3(start, org + (double)r->tfar * dir));
     }
 
+    size_t size() const override { return tree.size(); }
+
     size_t memory() const override
     {
         size_t n = tree.size(), cap = 1;
@@ -355,6 +358,17 @@ bool cgal_occluded(accel *a, accel_ctx *, const ray_t *ray, counters_t *) noexce
 
 size_t cgal_memory(const accel *a) { return ((const cgal_accel *)a)->tree->memory(); }
 
+/* One primitive per leaf, n - 1 interior nodes; polygons are several ears. */
+int cgal_stats(const accel *a, accel_stat *out, int max)
+{
+    const double n = (double)((const cgal_accel *)a)->tree->size(), prims = a->scene->prims.count;
+    const accel_stat all[] = {{"nodes", n > 1 ? n - 1 : 0}, {"leaves", n}, {"avg_leaf_prims", 1.0},
+                              {"refs_per_prim", prims > 0 ? n / prims : 0}};
+    int k = 0;
+    for (; k < max && k < (int)(sizeof all / sizeof all[0]); k++) out[k] = all[k];
+    return k;
+}
+
 void cgal_destroy(accel *a)
 {
     cgal_accel *c = (cgal_accel *)a;
@@ -365,7 +379,7 @@ void cgal_destroy(accel *a)
 } // namespace
 
 extern "C" const struct accel_ops accel_cgal_aabb = {
-    /* .version = */ 1,
+    /* .version = */ 2,
     /* .name = */ "cgal-aabb",
     /* .summary = */ "CGAL 5.5 AABB_tree: object-median BVH, one primitive per leaf, best-first first_intersection",
     /* .paper = */ "Alliez, Tayeb, Wormser, 3D Fast Intersection and Distance Computation (AABB Tree), CGAL User and "
@@ -379,4 +393,10 @@ extern "C" const struct accel_ops accel_cgal_aabb = {
     /* .occluded = */ cgal_occluded,
     /* .memory = */ cgal_memory,
     /* .destroy = */ cgal_destroy,
+    /* .stats = */ cgal_stats,
+    /* .reset = */ NULL,
+    /* .bounds = */ NULL,
+    /* CGAL's work is not counted (OPAQUE): nothing to compile out */
+    /* .intersect_fast = */ NULL,
+    /* .occluded_fast = */ NULL,
 };

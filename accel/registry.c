@@ -1,6 +1,7 @@
 /* registry.c: the static table of accelerators, found by name.
  * Adding an accelerator: write accel/NAME.c exporting `const struct
  * accel_ops accel_NAME`, declare it here and list it in the table. */
+#include <stdio.h>
 #include <string.h>
 #include "accel.h"
 
@@ -19,9 +20,70 @@ const struct accel_ops *const accel_registry[] = {
     NULL,
 };
 
+const char *const accel_stat_names[] = {
+    "nodes",          /* interior nodes, or cells of a grid */
+    "leaves",         /* leaves, or non-empty cells */
+    "empty_leaves",   /* leaves or cells that hold no primitive */
+    "max_depth",      /* deepest leaf (root = 0) */
+    "avg_leaf_prims", /* primitive references per non-empty leaf */
+    "refs_per_prim",  /* references stored over primitives: duplication */
+    "res_x", "res_y", "res_z", /* grid resolution */
+    "lazy_build_ms",  /* time spent building while tracing, since the last reset */
+    NULL,
+};
+
 const struct accel_ops *accel_find(const char *name)
 {
     for (int i = 0; accel_registry[i]; i++)
         if (strcmp(accel_registry[i]->name, name) == 0) return accel_registry[i];
     return NULL;
+}
+
+static bool known_stat(const char *name)
+{
+    for (int i = 0; accel_stat_names[i]; i++)
+        if (strcmp(accel_stat_names[i], name) == 0) return true;
+    return false;
+}
+
+accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const accel_params *params, char *err,
+                   size_t errlen)
+{
+    const char *missing = NULL;
+    if (ops->version < 1 || ops->version > ACCEL_OPS_VERSION) {
+        snprintf(err, errlen, "%s: interface version %d, this harness knows 1..%d", ops->name, ops->version,
+                 ACCEL_OPS_VERSION);
+        return NULL;
+    }
+    if (!ops->build || !ops->occluded || !ops->memory || !ops->destroy) missing = "build, occluded, memory and destroy";
+    else if (!ops->intersect && !(ops->flags & ACCEL_SHADOW_ONLY)) missing = "intersect (it is not SHADOW_ONLY)";
+    else if (ops->version >= 2 && (ops->flags & ACCEL_MUTATES) && !ops->reset) missing = "reset (it MUTATES)";
+    if (missing) {
+        snprintf(err, errlen, "%s: the method table lacks %s", ops->name, missing);
+        return NULL;
+    }
+    accel *a = ops->build(scene, params, err, errlen);
+    if (!a) return NULL;
+    a->ops = ops;
+    a->scene = scene;
+    return a;
+}
+
+box3 accel_bounds(const accel *a)
+{
+    return a->ops->version >= 2 && a->ops->bounds ? a->ops->bounds(a) : a->scene->bounds;
+}
+
+int accel_stats(const accel *a, accel_stat *out, int max)
+{
+    if (a->ops->version < 2 || !a->ops->stats) return 0;
+    int n = a->ops->stats(a, out, max), kept = 0;
+    if (n > max) n = max;
+    /* A name the CSV has no column for is dropped, loudly (the conformance
+     * suite fails on it). */
+    for (int i = 0; i < n; i++)
+        if (known_stat(out[i].name)) out[kept++] = out[i];
+        else fprintf(stderr, "accelbench: warning: %s reports the statistic '%s', which accel_stat_names[] does not list\n",
+                     a->ops->name, out[i].name);
+    return kept;
 }

@@ -61,12 +61,11 @@ int main(int argc, char **argv)
     accel_params p;
     params_defaults(&p, ops->params);
     p.threads = 1;
-    accel *a = ops->build(s, &p, err, sizeof err);
+    accel *a = accel_build(ops, s, &p, err, sizeof err);
     if (!a) {
         fprintf(stderr, "accelbench-overhead: %s\n", err);
         return 2;
     }
-    a->ops = ops;
     workload_opts o = {.width = res, .height = res, .spp = 1, .depth = 3, .seed = 1, .threads = 1};
     rayset_t *rs = workload_primary(s, &o);
     answers_t *ans = answers_new(rs, false);

@@ -57,23 +57,16 @@ accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen)
     accel_params p;
     params_defaults(&p, ops->params);
     p.threads = threads;
-    accel *a = ops->build(s, &p, err, errlen);
-    if (a) a->ops = ops;
-    return a;
+    return accel_build(ops, s, &p, err, errlen);
 }
 
 accel *build_accel(const accel_config *ac, const scene_t *s, double *ms)
 {
     char err[512];
     double t0 = clock_ms();
-    accel *a = ac->ops->build(s, &ac->params, err, sizeof err);
+    accel *a = accel_build(ac->ops, s, &ac->params, err, sizeof err);
     *ms = clock_ms() - t0;
-    if (!a) {
-        fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
-        return NULL;
-    }
-    a->ops = ac->ops;
-    a->scene = s;
+    if (!a) fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
     return a;
 }
 

@@ -136,14 +136,12 @@ int render_main(options *o)
         fprintf(stderr, "accelbench: %s\n", err);
         return 2;
     }
-    accel *a = ac->ops->build(s, &ac->params, err, sizeof err);
+    accel *a = accel_build(ac->ops, s, &ac->params, err, sizeof err);
     if (!a) {
         fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
         scene_free(s);
         return 2;
     }
-    a->ops = ac->ops;
-    a->scene = s;
     workload_opts wl = o->wl;
     if (!o->res_given) {
         wl.width = s->camera.width > 0 ? s->camera.width : 512;

@@ -253,7 +253,6 @@ static int open_scene(rp_run *r, int idx)
         fprintf(stderr, "accelbench: %s: reference build failed: %s\n", d->label, err);
         return -1;
     }
-    r->ref->scene = r->s;
     r->ver = verifier_new(r->s, VERIFY_JUDGE_SECONDS);
     r->cur = idx;
     if (!r->o.quiet)

@@ -14,12 +14,7 @@ static accel *build_kernel(const scene_t *s, const char *kernel, char *err, size
     params_defaults(&p, ops->params);
     p.threads = 2;
     if (params_set(&p, "kernel", kernel, err, errlen)) return NULL;
-    accel *a = ops->build(s, &p, err, errlen);
-    if (a) {
-        a->ops = ops;
-        a->scene = s;
-    }
-    return a;
+    return accel_build(ops, s, &p, err, errlen);
 }
 
 static void check_scene(const char *name, int res)

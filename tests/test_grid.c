@@ -35,11 +35,7 @@ static accel *build_cfg(const char *name, const scene_t *s, const char *cfg, cha
         *eq = 0;
         if (params_set(&p, tok, eq + 1, err, errlen)) return NULL;
     }
-    accel *a = ops->build(s, &p, err, errlen);
-    if (!a) return NULL;
-    a->ops = ops;
-    a->scene = s;
-    return a;
+    return accel_build(ops, s, &p, err, errlen);
 }
 
 static accel *must_build(const char *name, const scene_t *s, const char *cfg)

@@ -33,13 +33,11 @@ static inline accel *test_build(const char *name, const scene_t *s, int threads)
     params_defaults(&p, ops->params);
     p.threads = threads;
     char err[512];
-    accel *a = ops->build(s, &p, err, sizeof err);
+    accel *a = accel_build(ops, s, &p, err, sizeof err);
     if (!a) {
         fprintf(stderr, "build %s failed: %s\n", name, err);
         exit(2);
     }
-    a->ops = ops;
-    a->scene = s;
     return a;
 }
 
