@@ -111,6 +111,10 @@ struct accel_ops {
      * the harness times the counting methods and says so in the CSV. */
     bool (*intersect_fast)(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit);
     bool (*occluded_fast)(accel *a, accel_ctx *ctx, const ray_t *ray);
+    /* Parameter settings worth testing besides the defaults, "k=v,k=v"
+     * each, NULL-terminated (or NULL): the conformance suite
+     * (tests/test_accels.c) runs every one of them. */
+    const char *const *variants;
 };
 
 /* The base of every accelerator object. */

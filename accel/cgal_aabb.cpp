@@ -358,6 +358,8 @@ bool cgal_occluded(accel *a, accel_ctx *, const ray_t *ray, counters_t *) noexce
 
 size_t cgal_memory(const accel *a) { return ((const cgal_accel *)a)->tree->memory(); }
 
+const char *const cgal_variants[] = {"kernel=epick", NULL};
+
 /* One primitive per leaf, n - 1 interior nodes; polygons are several ears. */
 int cgal_stats(const accel *a, accel_stat *out, int max)
 {
@@ -399,4 +401,5 @@ extern "C" const struct accel_ops accel_cgal_aabb = {
     /* CGAL's work is not counted (OPAQUE): nothing to compile out */
     /* .intersect_fast = */ NULL,
     /* .occluded_fast = */ NULL,
+    /* .variants = */ cgal_variants,
 };
