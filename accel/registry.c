@@ -1,22 +1,25 @@
-/* registry.c: the static table of accelerators, found by name.
+/* registry.c: the static table of accelerators, found by name, and
+ * accel_build(), the one way to build one.
  * Adding an accelerator: write accel/NAME.c exporting `const struct
- * accel_ops accel_NAME`, declare it here and list it in the table. */
+ * accel_ops accel_NAME` and add its line to accel/meson.build's
+ * `accelerators` list, which reaches this file as ACCEL_TABLES
+ * (X(accel_exhaustive) X(accel_embree) ...). */
 #include <stdio.h>
 #include <string.h>
 #include "accel.h"
 
-extern const struct accel_ops accel_exhaustive;
-extern const struct accel_ops accel_embree;
-extern const struct accel_ops accel_grid;
-extern const struct accel_ops accel_grid_raybox;
-extern const struct accel_ops accel_cgal_aabb;
+#ifndef ACCEL_TABLES
+#error "ACCEL_TABLES comes from accel/meson.build's accelerators list"
+#endif
+
+#define X(table) extern const struct accel_ops table;
+ACCEL_TABLES
+#undef X
 
 const struct accel_ops *const accel_registry[] = {
-    &accel_exhaustive,
-    &accel_embree,
-    &accel_grid,
-    &accel_grid_raybox,
-    &accel_cgal_aabb,
+#define X(table) &table,
+    ACCEL_TABLES
+#undef X
     NULL,
 };
 
