@@ -132,6 +132,10 @@ const struct accel_ops *accel_find(const char *name);
  * and sets the base's ops and scene. NULL with a one-line reason in err. */
 accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const accel_params *params, char *err,
                    size_t errlen);
+/* Whether a has a reset(), and a call of it when it has (tracing changes
+ * nothing in the others). */
+bool accel_resets(const accel *a);
+void accel_reset(accel *a);
 /* The accelerator's bounds (its bounds() or the scene's). */
 box3 accel_bounds(const accel *a);
 /* Its statistics (stats() or none), checked against accel_stat_names[]. */

@@ -25,7 +25,9 @@
  * Memory: the bytes Embree's device reports allocating (memory monitor
  * callback), which include its own copies of the vertex and index buffers,
  * plus our id maps.
- * Counters: Embree's work is not observable (ACCEL_OPAQUE).
+ * Counters: Embree's work is not observable (ACCEL_OPAQUE); its
+ * intersect_fast/occluded_fast are its own queries, which intersect and
+ * occluded call. The cone callbacks use prims/'s counting-free tests.
  * Context: one RTCIntersectContext per thread, initialised once. */
 #include <embree3/rtcore.h>
 #include <math.h>
@@ -144,9 +146,8 @@ static void cone_intersect(const struct RTCIntersectFunctionNArguments *args)
     ray_t r = {v3(rh->ray.org_x, rh->ray.org_y, rh->ray.org_z), rh->ray.tnear,
                v3(rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z), rh->ray.tfar, RAY_NO_LIGHT, 0};
     hit_t h = hit_none(&r);
-    counters_t unused = {0};
     uint32_t id = cu->prim_of[args->primID];
-    if (!prim_intersect(cu->prims, id, &r, &h, &unused)) return;
+    if (!prim_intersect_fast(cu->prims, id, &r, &h)) return;
     vec3 n = prim_normal(cu->prims, &h, &r);
     rh->ray.tfar = h.t;
     rh->hit.u = h.u;
@@ -163,8 +164,7 @@ static void cone_occluded(const struct RTCOccludedFunctionNArguments *args)
     const cone_user *cu = args->geometryUserPtr;
     struct RTCRay *rr = (struct RTCRay *)args->ray;
     ray_t r = {v3(rr->org_x, rr->org_y, rr->org_z), rr->tnear, v3(rr->dir_x, rr->dir_y, rr->dir_z), rr->tfar, RAY_NO_LIGHT, 0};
-    counters_t unused = {0};
-    if (prim_occluded(cu->prims, cu->prim_of[args->primID], &r, &unused)) rr->tfar = -INFINITY;
+    if (prim_occluded_fast(cu->prims, cu->prim_of[args->primID], &r)) rr->tfar = -INFINITY;
 }
 
 static int add_cones(embree_accel *e, const prims_t *p)
@@ -288,9 +288,10 @@ static accel_ctx *embree_context_new(accel *a)
 
 static void embree_context_free(accel_ctx *ctx) { free(ctx); }
 
-static bool embree_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
+/* Embree has no counters, so its counting-free methods are the real ones
+ * and the counting ones (which have nothing to count) call them. */
+static bool embree_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
 {
-    (void)c;
     embree_accel *e = (embree_accel *)a;
     struct RTCRayHit rh;
     to_rtc(ray, &rh.ray);
@@ -304,14 +305,25 @@ static bool embree_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *
     return true;
 }
 
-static bool embree_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+static bool embree_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
 {
-    (void)c;
     embree_accel *e = (embree_accel *)a;
     struct RTCRay r;
     to_rtc(ray, &r);
     rtcOccluded1(e->scene, &ctx->ic, &r);
     return r.tfar < 0.0f; /* Embree sets tfar to -inf on a hit */
+}
+
+static bool embree_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
+{
+    (void)c;
+    return embree_intersect_fast(a, ctx, ray, hit);
+}
+
+static bool embree_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+{
+    (void)c;
+    return embree_occluded_fast(a, ctx, ray);
 }
 
 static size_t embree_memory(const accel *a)
@@ -322,7 +334,7 @@ static size_t embree_memory(const accel *a)
 }
 
 const struct accel_ops accel_embree = {
-    .version = 1,
+    .version = 2,
     .name = "embree",
     .summary = "Intel Embree 3 SAH BVH, single-ray kernels (the reference and speed bar)",
     .paper = "Wald et al., Embree: A Kernel Framework for Efficient CPU Ray Tracing, TOG 2014, sections 4-5",
@@ -335,6 +347,8 @@ const struct accel_ops accel_embree = {
     .occluded = embree_occluded,
     .memory = embree_memory,
     .destroy = embree_destroy,
+    .intersect_fast = embree_intersect_fast,
+    .occluded_fast = embree_occluded_fast,
 };
 
 RTCScene embree_scene_of(accel *a) { return ((embree_accel *)a)->scene; }

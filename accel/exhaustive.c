@@ -5,9 +5,13 @@
  * cost of naive ray tracing is linear in the number of objects).
  *
  * Parameters: none.
- * Memory layout: nothing beyond the scene's primitive store (0 bytes).
+ * Memory layout: nothing beyond the scene's primitive store but the base
+ * object itself (sizeof(accel) bytes, what memory() reports).
  * Counters: prim_tests = primitives per ray (closest hit), fewer for
  * occlusion rays, which stop at the first hit. No box tests, no steps.
+ * intersect_fast/occluded_fast: the same loop with prims/'s counting-free
+ * tests. Version 2 with no stats, reset, bounds (the scene's) or variants:
+ * it has no structure and no parameters.
  * It is the correctness anchor of the testbed: its only logic is the
  * prims/ interface itself. */
 #include <stdlib.h>
@@ -24,28 +28,54 @@ static accel *exhaustive_build(const scene_t *scene, const accel_params *params,
     return a;
 }
 
+/* One source for the counting and the counting-free queries: `counting`
+ * is a constant at every call site, so the fast ones are this loop with
+ * prims/'s counting-free tests and nothing else changed. */
+static inline __attribute__((always_inline)) bool scan(const accel *a, const ray_t *ray, hit_t *hit, counters_t *c,
+                                                       const bool shadow, const bool counting)
+{
+    const prims_t *p = &a->scene->prims;
+    for (uint32_t id = 0; id < p->count; id++) {
+        if (shadow) {
+            if (counting ? prim_occluded(p, id, ray, c) : prim_occluded_fast(p, id, ray)) return true;
+        } else if (counting) {
+            prim_intersect(p, id, ray, hit, c);
+        } else {
+            prim_intersect_fast(p, id, ray, hit);
+        }
+    }
+    return shadow ? false : hit->prim != HIT_NONE;
+}
+
 static bool exhaustive_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
 {
     (void)ctx;
-    const prims_t *p = &a->scene->prims;
-    for (uint32_t id = 0; id < p->count; id++) prim_intersect(p, id, ray, hit, c);
-    return hit->prim != HIT_NONE;
+    return scan(a, ray, hit, c, false, true);
 }
 
 static bool exhaustive_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
 {
     (void)ctx;
-    const prims_t *p = &a->scene->prims;
-    for (uint32_t id = 0; id < p->count; id++)
-        if (prim_occluded(p, id, ray, c)) return true;
-    return false;
+    return scan(a, ray, NULL, c, true, true);
 }
 
-static size_t exhaustive_memory(const accel *a) { (void)a; return 0; }
+static bool exhaustive_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
+{
+    (void)ctx;
+    return scan(a, ray, hit, NULL, false, false);
+}
+
+static bool exhaustive_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
+{
+    (void)ctx;
+    return scan(a, ray, NULL, NULL, true, false);
+}
+
+static size_t exhaustive_memory(const accel *a) { return sizeof *a; }
 static void exhaustive_destroy(accel *a) { free(a); }
 
 const struct accel_ops accel_exhaustive = {
-    .version = 1,
+    .version = 2,
     .name = "exhaustive",
     .summary = "every ray tests every primitive (the baseline and correctness anchor)",
     .paper = "Arvo & Kirk 1989, survey section 1 (naive ray tracing)",
@@ -56,4 +86,6 @@ const struct accel_ops accel_exhaustive = {
     .occluded = exhaustive_occluded,
     .memory = exhaustive_memory,
     .destroy = exhaustive_destroy,
+    .intersect_fast = exhaustive_intersect_fast,
+    .occluded_fast = exhaustive_occluded_fast,
 };

@@ -26,7 +26,9 @@
  *   grid-raybox  "Woo default": ray box on with every switch Woo's final
  *                implementation keeps. ACCEL_MUTATES: move-to-front
  *                reorders the SHARED lists as in Woo's linked lists, so the
- *                harness traces it on one thread (even with mtf=off).
+ *                harness traces it on one thread (even with mtf=off), and
+ *                reset() sorts every list back to its post-build order.
+ * The two ops tables come from one macro (GRID_OPS, at the end).
  *
  * Parameters (grid default / grid-raybox default):
  *   res=auto|NxMxK   auto / auto: Woo s8.2, m = n^(1/3) * density,
@@ -40,7 +42,8 @@
  *                    a voxel plane) puts it in both voxels.
  *   mailbox=on|off   on / on: Arnaldi mailboxes (survey s5.3): a per-thread
  *                    array of the last ray id that tested each primitive
- *                    (in accel_ctx, 4 bytes per primitive per thread); a
+ *                    (accel/common/mailbox.h, in accel_ctx, 4 bytes per
+ *                    primitive per thread); a
  *                    re-test by the same ray is skipped and counted in
  *                    mailbox_hits. The "stored result" of the survey is the
  *                    running closest hit itself (see the walk below).
@@ -106,7 +109,7 @@
  *                    the primitive on a miss. It is the exact form of "the
  *                    plane hit point lies in the box" for any primitive.
  *   memcap=4096      MiB: refuse (before allocating them) cell arrays plus
- *                    id lists larger than this.
+ *                    id lists larger than this (accel/common/memcap.h).
  *
  * Memory layout (memory() counts all of it; ncells = X*Y*Z):
  *   start[ncells + 1]  uint32: CSR offsets; cell c's candidates are
@@ -151,6 +154,11 @@
  * Counters: box_tests = 1 grid clip per ray + voxbox tests + crossing tests
  * + woo90 and almost-hit slab tests; steps = voxels entered; empty_leaves
  * = voxels entered with no candidates; mailbox_hits = skipped re-tests.
+ * intersect_fast/occluded_fast are the same walk compiled without them.
+ * Slab tests (grid clip, B, woo90) are accel/common/slab.h's slab_clip.
+ * Statistics: nodes = cells, leaves = non-empty cells, empty_leaves,
+ * avg_leaf_prims (list entries per non-empty cell), refs_per_prim, res_x,
+ * res_y, res_z.
  *
  * Not implemented: Woo s6.3 (multiple ray boxes per voxel, which he left as
  * an idea), s7.1 (reflection-ray numerator reuse: he dropped it, and it
@@ -162,6 +170,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "accel.h"
+#include "common/mailbox.h"
+#include "common/memcap.h"
+#include "common/slab.h"
 #include "grid_woo.h"
 
 #define RAYID_WINDOW 64u
@@ -198,6 +209,7 @@ typedef struct {
     uint32_t stride[3];
     uint32_t ncells;
     size_t nrefs;
+    uint32_t nonempty; /* cells with at least one candidate */
     float *planes[3]; /* [n[a] + 1], one allocation */
     box3 box;         /* planes[a][0] .. planes[a][n[a]] */
     box3 clip;        /* box grown by pad: the ray's clip box */
@@ -215,9 +227,8 @@ typedef struct {
 } grid_t;
 
 struct accel_ctx {
-    uint32_t rid;    /* last ray id; 0 = never */
-    uint32_t *stamp; /* [count] last ray id that tested each primitive, or NULL */
-    uint32_t *ids;   /* per-thread list copy (grid with mtf), or NULL */
+    mailbox_t mb;  /* ray-id stamps (mailbox or rayid on; else mb.stamp is NULL) */
+    uint32_t *ids; /* per-thread list copy (grid with mtf), or NULL */
 };
 
 /* fminf/fmaxf are libm calls without -ffast-math; these are inline and,
@@ -352,11 +363,13 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
 
     /* Memory cap, first for the cell arrays (before allocating anything). */
     uint64_t ncells = (uint64_t)res[0] * (uint64_t)res[1] * (uint64_t)res[2];
-    uint64_t cap = (uint64_t)memcap << 20;
     uint64_t cell_bytes = (ncells + 1) * 4 + (voxbox ? ncells * (sizeof(box3) + 1) : 0);
-    if (ncells >= UINT32_MAX || cell_bytes > cap) {
-        snprintf(err, errlen, "res=%dx%dx%d: %llu cells need %.1f MiB of cell arrays, over memcap=%ld MiB", res[0],
-                 res[1], res[2], (unsigned long long)ncells, (double)cell_bytes / 1048576.0, memcap);
+    if (memcap_exceeded(cell_bytes, (uint64_t)memcap, err, errlen, "res=%dx%dx%d: %llu cells (cell arrays)", res[0],
+                        res[1], res[2], (unsigned long long)ncells))
+        return NULL;
+    if (ncells >= UINT32_MAX) {
+        snprintf(err, errlen, "res=%dx%dx%d: %llu cells, more than 32-bit cell indices reach", res[0], res[1], res[2],
+                 (unsigned long long)ncells);
         return NULL;
     }
 
@@ -413,15 +426,20 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     insert_pass(g, NULL);
     uint64_t nrefs = 0;
     for (uint64_t c = 0; c < ncells; c++) {
+        g->nonempty += g->start[c + 1] != 0;
         nrefs += g->start[c + 1];
         if (nrefs >= UINT32_MAX) break;
         g->start[c + 1] = (uint32_t)nrefs;
     }
     uint64_t extra_bytes = eyeorigin ? (uint64_t)p->count * sizeof(box3) : 0;
-    if (nrefs >= UINT32_MAX || cell_bytes + nrefs * 4 + extra_bytes > cap) {
-        snprintf(err, errlen, "res=%dx%dx%d: %llu cells and %llu list entries need %.1f MiB, over memcap=%ld MiB",
-                 res[0], res[1], res[2], (unsigned long long)ncells, (unsigned long long)nrefs,
-                 (double)(cell_bytes + nrefs * 4 + extra_bytes) / 1048576.0, memcap);
+    if (nrefs >= UINT32_MAX) {
+        snprintf(err, errlen, "res=%dx%dx%d: more than 2^32 list entries", res[0], res[1], res[2]);
+        grid_destroy(&g->base);
+        return NULL;
+    }
+    if (memcap_exceeded(cell_bytes + nrefs * 4 + extra_bytes, (uint64_t)memcap, err, errlen,
+                        "res=%dx%dx%d: %llu cells and %llu list entries", res[0], res[1], res[2],
+                        (unsigned long long)ncells, (unsigned long long)nrefs)) {
         grid_destroy(&g->base);
         return NULL;
     }
@@ -481,10 +499,7 @@ static accel_ctx *grid_context_new(accel *a)
     grid_t *g = (grid_t *)a;
     accel_ctx *ctx = calloc(1, sizeof *ctx);
     if (!ctx) abort();
-    if (g->mailbox || g->rayid) {
-        ctx->stamp = calloc((size_t)g->p->count + 1, sizeof *ctx->stamp);
-        if (!ctx->stamp) abort();
-    }
+    if ((g->mailbox || g->rayid) && mailbox_init(&ctx->mb, g->p->count)) abort();
     if (g->mtf != MTF_OFF && !g->shared_mtf) {
         ctx->ids = malloc((g->nrefs ? g->nrefs : 1) * sizeof *ctx->ids);
         if (!ctx->ids) abort();
@@ -496,43 +511,25 @@ static accel_ctx *grid_context_new(accel *a)
 static void grid_context_free(accel_ctx *ctx)
 {
     if (!ctx) return;
-    free(ctx->stamp);
+    mailbox_free(&ctx->mb);
     free(ctx->ids);
     free(ctx);
 }
 
 /* ---------------------------------------------------------------- trace */
 
+/* What the walk knows about its ray. The slab test (accel/common/slab.h)
+ * is the kit's plain one: the grid pads its boxes and t ranges by its own
+ * slack instead of scaling t (see Slack above). */
 typedef struct {
-    float o[3], d[3], inv[3];
+    slab_ray sr; /* origin and reciprocal direction per axis */
+    float d[3];  /* direction per axis: its sign steps the 3DDDA */
     vec3 org, dir;
     float pad; /* position slack */
     float dt;  /* t slack */
     float thr; /* beta threshold in t units (INFINITY: never skip) */
     bool eye;  /* origin == camera.from and eyeorigin on */
 } rinfo;
-
-/* Shrink [*t0, *t1] to the part of the ray inside b; false if empty. */
-static inline bool slab(const rinfo *r, const box3 *b, float *t0, float *t1)
-{
-    float a = *t0, z = *t1;
-    const float lo[3] = {b->lo.x, b->lo.y, b->lo.z}, hi[3] = {b->hi.x, b->hi.y, b->hi.z};
-    for (int k = 0; k < 3; k++) {
-        if (r->d[k] == 0.0f) {
-            if (r->o[k] < lo[k] || r->o[k] > hi[k]) return false;
-            continue;
-        }
-        float ta = (lo[k] - r->o[k]) * r->inv[k], tb = (hi[k] - r->o[k]) * r->inv[k];
-        if (ta > tb) {
-            float s = ta;
-            ta = tb, tb = s;
-        }
-        a = maxf(a, ta);
-        z = minf(z, tb);
-    }
-    *t0 = a, *t1 = z;
-    return a <= z;
-}
 
 /* The Snyder-Barr ray box of [t1, t2], padded; eye-relative when r->eye. */
 static inline box3 ray_box(const rinfo *r, float t1, float t2)
@@ -554,7 +551,7 @@ static inline bool seg_in_bounds(const rinfo *r, box3 b, float t1, float t2)
 {
     b = box_pad(b, r->pad);
     float a = t1 - r->dt, z = t2 + r->dt;
-    return slab(r, &b, &a, &z);
+    return slab_clip(&r->sr, &b, &a, &z);
 }
 
 static inline void move_front(uint32_t *ids, uint32_t b, uint32_t k)
@@ -564,24 +561,43 @@ static inline void move_front(uint32_t *ids, uint32_t b, uint32_t k)
     ids[b] = id;
 }
 
-/* The walk; shadow is a compile-time constant at both call sites. */
+/* The primitive tests of the walk, counting or not (a constant). */
+static inline __attribute__((always_inline)) bool test_prim(const prims_t *p, uint32_t id, const ray_t *ray,
+                                                            hit_t *hit, counters_t *c, const bool counting)
+{
+    return counting ? prim_intersect(p, id, ray, hit, c) : prim_intersect_fast(p, id, ray, hit);
+}
+
+static inline __attribute__((always_inline)) bool test_occluded(const prims_t *p, uint32_t id, const ray_t *ray,
+                                                                counters_t *c, const bool counting)
+{
+    return counting ? prim_occluded(p, id, ray, c) : prim_occluded_fast(p, id, ray);
+}
+
+/* The walk, ONE source for all four methods: shadow (any hit) and counting
+ * are compile-time constants at the call sites, so the counting-free
+ * methods are this body with every counter write compiled out and exactly
+ * the same arithmetic (the same answers, bit for bit). */
 static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx, const ray_t *ray, hit_t *hit,
-                                                       counters_t *c, const bool shadow)
+                                                       counters_t *c, const bool shadow, const bool counting)
 {
     if (!g->nrefs) return false;
     const prims_t *p = g->p;
     rinfo r;
+    /* A ray no primitive can hit (NaN, infinite, zero direction) misses
+     * here, before the 3DDDA would turn a NaN into a cell index. */
+    if (!slab_ray_init(&r.sr, ray->org, ray->dir)) return false;
     r.org = ray->org, r.dir = ray->dir;
-    r.o[0] = ray->org.x, r.o[1] = ray->org.y, r.o[2] = ray->org.z;
     r.d[0] = ray->dir.x, r.d[1] = ray->dir.y, r.d[2] = ray->dir.z;
-    for (int k = 0; k < 3; k++) r.inv[k] = 1.0f / r.d[k];
 
-    c->box_tests++;
-    float t0 = ray->tnear, t1 = ray->tfar;
-    if (!slab(&r, &g->clip, &t0, &t1)) return false;
     /* Counted locally (prim_intersect may write *c, so the compiler could
      * not keep them in registers) and added to *c at the end. */
-    uint64_t nbox = 0, nsteps = 0, nempty = 0, nmbox = 0;
+    uint64_t nbox = 1, nsteps = 0, nempty = 0, nmbox = 0; /* the grid clip is a box test */
+    float t0 = ray->tnear, t1 = ray->tfar;
+    if (!slab_clip(&r.sr, &g->clip, &t0, &t1)) {
+        if (counting) c->box_tests++;
+        return false;
+    }
     bool occluded = false;
 
     r.pad = g->pad + 1e-6f * maxabs3(ray->org);
@@ -589,14 +605,16 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
     r.thr = g->beta > 0 ? g->beta * g->voxdiag / v3_len(ray->dir) : INFINITY;
     r.eye = g->eyeorigin && g->raybox && ray->org.x == g->eye.x && ray->org.y == g->eye.y && ray->org.z == g->eye.z;
 
-    /* Ray id for mailboxes and rayid. */
-    uint32_t *stamp = ctx ? ctx->stamp : NULL, rid = 0;
-    if (stamp) {
-        rid = ++ctx->rid;
-        if (rid == 0) {
-            memset(stamp, 0, (size_t)p->count * sizeof *stamp);
-            rid = ctx->rid = 1;
-        }
+    /* Ray id for mailboxes and rayid. The walk reads the stamps through a
+     * local copy of the mailbox: its address never escapes, so the stamp
+     * pointer stays in a register across the calls into prims/ (through
+     * ctx it would be reloaded after each). */
+    mailbox_t mbox, *mb = NULL;
+    uint32_t rid = 0;
+    if (ctx && ctx->mb.stamp) {
+        rid = mailbox_next_ray(&ctx->mb);
+        mbox = ctx->mb;
+        mb = &mbox;
     }
     uint32_t *ids = ctx && ctx->ids ? ctx->ids : g->ids;
 
@@ -607,14 +625,14 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
     for (int a = 0; a < 3; a++) {
         const float *pl = g->planes[a];
         int n = g->n[a];
-        float pa = r.d[a] == 0.0f ? r.o[a] : r.o[a] + r.d[a] * t0;
+        float o = r.sr.org[a], pa = r.d[a] == 0.0f ? o : o + r.d[a] * t0;
         float f = floorf((pa - pl[0]) * ((float)n / (pl[n] - pl[0])));
         int i = f < 0 ? 0 : f > (float)(n - 1) ? n - 1 : (int)f;
         while (i > 0 && pa < pl[i]) i--;
         while (i < n - 1 && pa >= pl[i + 1]) i++;
         idx[a] = i;
-        if (r.d[a] > 0) step[a] = 1, tn[a] = (pl[i + 1] - r.o[a]) * r.inv[a];
-        else if (r.d[a] < 0) step[a] = -1, tn[a] = (pl[i] - r.o[a]) * r.inv[a];
+        if (r.d[a] > 0) step[a] = 1, tn[a] = (pl[i + 1] - o) * r.sr.inv[a];
+        else if (r.d[a] < 0) step[a] = -1, tn[a] = (pl[i] - o) * r.sr.inv[a];
         else step[a] = 0, tn[a] = INFINITY;
         cell += (uint32_t)i * g->stride[a];
     }
@@ -635,7 +653,7 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
         float v1 = tcur, v2 = tout;
         if (g->voxbox && !g->vfull[cell]) {
             nbox++;
-            if (!slab(&r, &g->vbox[cell], &v1, &v2)) goto next;
+            if (!slab_clip(&r.sr, &g->vbox[cell], &v1, &v2)) goto next;
         }
         if (g->tclip) rr.tnear = maxf(ray->tnear, v1 - (r.dt + 1e-6f * fabsf(v1)));
         float vh = !shadow && g->dynbox ? minf(v2, hit->t) : v2; /* far end of the ray box */
@@ -647,8 +665,8 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
         for (int pass = 0; pass < npass; pass++)
             for (uint32_t k = b; k < e; k++) {
                 uint32_t id = ids[k];
-                if (stamp) {
-                    uint32_t st = stamp[id];
+                if (mb) {
+                    uint32_t st = mailbox_stamp(mb, id);
                     if (npass == 2) {
                         bool recent = st != 0 && rid - st < RAYID_WINDOW;
                         if (pass == 0 ? !recent : recent) continue;
@@ -667,15 +685,15 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
                     nbox++;
                     if (!seg_in_bounds(&r, p->bounds[id], v1, segf)) continue;
                 }
-                if (stamp) stamp[id] = rid;
+                if (mb) mailbox_mark(mb, id, rid);
                 if (shadow) {
-                    if (prim_occluded(p, id, &rr, c)) {
+                    if (test_occluded(p, id, &rr, c, counting)) {
                         occluded = true;
                         goto out;
                     }
                     continue;
                 }
-                if (prim_intersect(p, id, &rr, hit, c)) {
+                if (test_prim(p, id, &rr, hit, c, counting)) {
                     if (g->dynbox && g->raybox) {
                         vh = minf(v2, hit->t);
                         if (vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
@@ -697,24 +715,36 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
         if ((unsigned)idx[ax] >= (unsigned)g->n[ax]) break;
         cell = step[ax] > 0 ? cell + g->stride[ax] : cell - g->stride[ax];
         tcur = tout;
-        tn[ax] = (g->planes[ax][idx[ax] + (step[ax] > 0)] - r.o[ax]) * r.inv[ax];
+        tn[ax] = (g->planes[ax][idx[ax] + (step[ax] > 0)] - r.sr.org[ax]) * r.sr.inv[ax];
     }
 out:
-    c->box_tests += nbox;
-    c->steps += nsteps;
-    c->empty_leaves += nempty;
-    c->mailbox_hits += nmbox;
+    if (counting) {
+        c->box_tests += nbox;
+        c->steps += nsteps;
+        c->empty_leaves += nempty;
+        c->mailbox_hits += nmbox;
+    }
     return shadow ? occluded : hit->prim != HIT_NONE;
 }
 
 static bool grid_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
 {
-    return walk((grid_t *)a, ctx, ray, hit, c, false);
+    return walk((grid_t *)a, ctx, ray, hit, c, false, true);
 }
 
 static bool grid_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
 {
-    return walk((grid_t *)a, ctx, ray, NULL, c, true);
+    return walk((grid_t *)a, ctx, ray, NULL, c, true, true);
+}
+
+static bool grid_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
+{
+    return walk((grid_t *)a, ctx, ray, hit, NULL, false, false);
+}
+
+static bool grid_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
+{
+    return walk((grid_t *)a, ctx, ray, NULL, NULL, true, false);
 }
 
 static size_t grid_memory(const accel *a)
@@ -754,34 +784,101 @@ uint64_t grid_debug_list_hash(const accel *a)
     return h;
 }
 
-const struct accel_ops accel_grid = {
-    .version = 1,
-    .name = "grid",
-    .summary = "uniform grid, Amanatides-Woo 3DDDA, mailboxes, no ray boxes (Woo switches available, off)",
-    .paper = "Amanatides & Woo, Eurographics 1987; Arvo & Kirk 1989 survey s5.2-5.3; grid size Woo GI 1992 s8.2",
-    .params = grid_params,
-    .flags = 0,
-    .build = grid_build,
-    .context_new = grid_context_new,
-    .context_free = grid_context_free,
-    .intersect = grid_intersect,
-    .occluded = grid_occluded,
-    .memory = grid_memory,
-    .destroy = grid_destroy,
-};
+/* ------------------------------------------------------- version 2 */
 
-const struct accel_ops accel_grid_raybox = {
-    .version = 1,
-    .name = "grid-raybox",
-    .summary = "uniform grid with Snyder-Barr ray boxes and Woo's 1992 optimisations (move-to-front mutates)",
-    .paper = "Woo, Ray Tracing Polygons using Spatial Subdivision, GI 1992, s4-s8; Snyder & Barr 1987",
-    .params = grid_raybox_params,
-    .flags = ACCEL_MUTATES,
-    .build = grid_raybox_build,
-    .context_new = grid_context_new,
-    .context_free = grid_context_free,
-    .intersect = grid_intersect,
-    .occluded = grid_occluded,
-    .memory = grid_memory,
-    .destroy = grid_destroy,
-};
+static int grid_stats(const accel *a, accel_stat *out, int max)
+{
+    const grid_t *g = (const grid_t *)a;
+    uint32_t count = g->p->count;
+    accel_stat all[] = {
+        {"nodes", (double)g->ncells},
+        {"leaves", (double)g->nonempty},
+        {"empty_leaves", (double)(g->ncells - g->nonempty)},
+        {"avg_leaf_prims", g->nonempty ? (double)g->nrefs / g->nonempty : 0.0},
+        {"refs_per_prim", count ? (double)g->nrefs / count : 0.0},
+        {"res_x", g->n[0]},
+        {"res_y", g->n[1]},
+        {"res_z", g->n[2]},
+    };
+    int n = (int)(sizeof all / sizeof all[0]);
+    if (n > max) n = max;
+    for (int k = 0; k < n; k++) out[k] = all[k];
+    return n;
+}
+
+static int cmp_id(const void *x, const void *y)
+{
+    uint32_t a = *(const uint32_t *)x, b = *(const uint32_t *)y;
+    return (a > b) - (a < b);
+}
+
+/* grid-raybox's move-to-front only permutes each cell's list, and the
+ * build writes every list in ascending id order (insert_pass), so sorting
+ * each list restores the post-build state exactly, with no copy of it
+ * kept. Insertion sort for the short lists (adaptive to the few entries a
+ * run moved), qsort for long ones. */
+static void grid_reset(accel *a)
+{
+    grid_t *g = (grid_t *)a;
+    if (!g->shared_mtf || g->mtf == MTF_OFF) return;
+    for (uint32_t c = 0; c < g->ncells; c++) {
+        uint32_t *l = g->ids + g->start[c], n = g->start[c + 1] - g->start[c];
+        if (n > 32) {
+            qsort(l, n, sizeof *l, cmp_id);
+            continue;
+        }
+        for (uint32_t i = 1; i < n; i++) {
+            uint32_t v = l[i], j = i;
+            for (; j > 0 && l[j - 1] > v; j--) l[j] = l[j - 1];
+            l[j] = v;
+        }
+    }
+}
+
+static box3 grid_bounds(const accel *a) { return ((const grid_t *)a)->box; }
+
+/* The settings the conformance suite runs besides the defaults: the
+ * switches that change the walk's logic most, and a small fixed grid
+ * (many candidates per cell, primitives crossing many cells). Not for
+ * `grid`: mtf and rayid, whose per-thread lists and ray-id history make
+ * tie-breaks and counters depend on which rays each thread traced before,
+ * so 1 and 2 threads cannot agree bit for bit (grid-raybox runs on one
+ * thread and may list them). */
+static const char *const grid_variants[] = {"mailbox=off", "insert=bbox", "voxbox=on,woo90=on,tclip=on", "res=4x4x4",
+                                            NULL};
+static const char *const grid_raybox_variants[] = {"mtf=off", "raybox=off", "res=4x4x4",
+                                                   "eyeorigin=on,rayid=twopass", NULL};
+
+/* The two tables differ in a few slots only (SQLite's IOMETHODS habit). */
+#define GRID_OPS(SYM, NAME, SUMMARY, PAPER, PARAMS, FLAGS, BUILD, RESET, VARIANTS)                                   \
+    const struct accel_ops SYM = {                                                                                   \
+        .version = 2,                                                                                                \
+        .name = NAME,                                                                                                \
+        .summary = SUMMARY,                                                                                          \
+        .paper = PAPER,                                                                                              \
+        .params = PARAMS,                                                                                            \
+        .flags = FLAGS,                                                                                              \
+        .build = BUILD,                                                                                              \
+        .context_new = grid_context_new,                                                                             \
+        .context_free = grid_context_free,                                                                           \
+        .intersect = grid_intersect,                                                                                 \
+        .occluded = grid_occluded,                                                                                   \
+        .memory = grid_memory,                                                                                       \
+        .destroy = grid_destroy,                                                                                     \
+        .stats = grid_stats,                                                                                         \
+        .reset = RESET,                                                                                              \
+        .bounds = grid_bounds,                                                                                       \
+        .intersect_fast = grid_intersect_fast,                                                                       \
+        .occluded_fast = grid_occluded_fast,                                                                         \
+        .variants = VARIANTS,                                                                                        \
+    }
+
+GRID_OPS(accel_grid, "grid", "uniform grid, Amanatides-Woo 3DDDA, mailboxes, no ray boxes (Woo switches available, off)",
+         "Amanatides & Woo, Eurographics 1987; Arvo & Kirk 1989 survey s5.2-5.3; grid size Woo GI 1992 s8.2",
+         grid_params, 0, grid_build, NULL, grid_variants);
+
+/* ACCEL_MUTATES: move-to-front reorders the shared lists; reset sorts them back. */
+GRID_OPS(accel_grid_raybox, "grid-raybox",
+         "uniform grid with Snyder-Barr ray boxes and Woo's 1992 optimisations (move-to-front mutates)",
+         "Woo, Ray Tracing Polygons using Spatial Subdivision, GI 1992, s4-s8; Snyder & Barr 1987", grid_raybox_params,
+         ACCEL_MUTATES, grid_raybox_build, grid_reset, grid_raybox_variants);

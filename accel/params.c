@@ -42,6 +42,26 @@ int params_set(accel_params *p, const char *key, const char *value, char *err, s
     return 0;
 }
 
+int params_set_list(accel_params *p, const char *settings, char *err, size_t errlen)
+{
+    char buf[1024];
+    if (strlen(settings) >= sizeof buf) {
+        snprintf(err, errlen, "settings too long: %.40s...", settings);
+        return -1;
+    }
+    snprintf(buf, sizeof buf, "%s", settings);
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(tok, '=');
+        if (!eq) {
+            snprintf(err, errlen, "'%s': expected KEY=VALUE", tok);
+            return -1;
+        }
+        *eq = 0;
+        if (params_set(p, tok, eq + 1, err, errlen)) return -1;
+    }
+    return 0;
+}
+
 const char *params_get(const accel_params *p, const char *key)
 {
     int i = find(p, key);

@@ -34,6 +34,9 @@ typedef struct accel_params {
 void params_defaults(accel_params *p, const accel_param *table);
 /* Set KEY=VALUE. Returns 0, or -1 with a reason (unknown key, value too long). */
 int params_set(accel_params *p, const char *key, const char *value, char *err, size_t errlen);
+/* Set every KEY=VALUE of "k=v,k=v" ("" sets nothing). Returns 0, or -1
+ * with the reason of the first one that fails. */
+int params_set_list(accel_params *p, const char *settings, char *err, size_t errlen);
 /* The value of a key from the table (never NULL for a table key). */
 const char *params_get(const accel_params *p, const char *key);
 /* Typed readers: 0 on success, -1 with "KEY=VALUE: reason" in err. */

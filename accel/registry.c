@@ -72,6 +72,13 @@ accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const acce
     return a;
 }
 
+bool accel_resets(const accel *a) { return a->ops->version >= 2 && a->ops->reset; }
+
+void accel_reset(accel *a)
+{
+    if (accel_resets(a)) a->ops->reset(a);
+}
+
 box3 accel_bounds(const accel *a)
 {
     return a->ops->version >= 2 && a->ops->bounds ? a->ops->bounds(a) : a->scene->bounds;

@@ -38,10 +38,9 @@
  * force (a tree would not pay for itself). Otherwise a CGAL::AABB_tree in
  * Simple_cartesian<double>, built on the first judge_closest (or
  * judge_candidates) and freed by judge_free, over one box per primitive:
- * prims.bounds (exact vertex min/max for triangles and polygons), except
- * spheres, whose float bounds round centre -+ radius to nearest and can be
- * half a float ulp too tight, so they are recomputed in double and
- * rounded outward to float. The tree is walked with our own traversal
+ * prims.bounds (exact vertex min/max for triangles and polygons, centre
+ * -+ radius in double rounded outward for spheres, cone bounds rounded
+ * outward). The tree is walked with our own traversal
  * traits (AABB_tree::traversal, CGAL's generic walk) that test the ray
  * segment [tnear, tfar] against every node and primitive box inflated by
  *     delta = 2^-30 M + 2^-900,  M = the largest |coordinate| of the box
@@ -517,28 +516,9 @@ std::string root_text(const Root &t)
 
 typedef CGAL::Simple_cartesian<double> DK;
 
-/* The boxes the tree is built over (see the file header): prims.bounds,
- * except for spheres, whose float bounds round to nearest: centre -+
- * radius in double, rounded outward to float. */
-std::vector<box3> search_boxes(const prims_t *p)
-{
-    std::vector<box3> boxes(p->bounds, p->bounds + p->count);
-    for (uint32_t id = 0; id < p->count; id++) {
-        if (p->kind[id] != PRIM_SPHERE) continue;
-        const sphere_t &s = p->spheres[p->index[id]];
-        double c[3], r = s.radius;
-        float lo[3], hi[3];
-        load(s.center, c);
-        for (int i = 0; i < 3; i++) {
-            lo[i] = (float)(c[i] - r);
-            hi[i] = (float)(c[i] + r);
-            if (lo[i] > c[i] - r) lo[i] = std::nextafter(lo[i], -INFINITY);
-            if (hi[i] < c[i] + r) hi[i] = std::nextafter(hi[i], INFINITY);
-        }
-        boxes[id] = box3{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
-    }
-    return boxes;
-}
+/* The boxes the tree is built over: prims.bounds, which contain every
+ * primitive exactly (vertex min/max; spheres' and cones' rounded outward). */
+std::vector<box3> search_boxes(const prims_t *p) { return std::vector<box3>(p->bounds, p->bounds + p->count); }
 
 inline CGAL::Bbox_3 bbox_of(const box3 &b) { return CGAL::Bbox_3(b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z); }
 

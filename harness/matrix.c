@@ -10,18 +10,9 @@
 #include "csv.h"
 #include "machine.h"
 #include "measure.h"
+#include "output.h"
 #include "trace.h"
 #include "verify.h"
-
-
-/* The scene-and-workload part of a cell: the ray set and the reference's answers. */
-typedef struct {
-    rayset_t *rs;
-    answers_t *ref;
-    accel *ref_accel;
-    double ref_warm_ms; /* the reference trace that made ref: the warm-up of its timing */
-    uint32_t illposed;  /* rays whose reference hit lies within the origin bound (verify.h) */
-} cell_input;
 
 static int save_rays(const options *o, const rayset_t *rs, int nsets)
 {
@@ -47,45 +38,31 @@ static int save_rays(const options *o, const rayset_t *rs, int nsets)
     return 0;
 }
 
-/* Make (or load) the ray set and the reference answers for one workload. */
-static int cell_prepare(const options *o, const scene_t *s, accel *ref, const workload_def *w, cell_input *in)
+/* Make (or load) the ray set of one workload and the reference's answers. */
+static int cell_prepare(const options *o, const scene_t *s, accel *ref, verifier_t *ver, const workload_def *w,
+                        cell_rays *in)
 {
     char err[512];
-    in->ref_accel = ref;
+    rayset_t *rs;
     if (o->rays_file) {
-        in->rs = rayset_load(o->rays_file, err, sizeof err);
-        if (!in->rs) {
+        rs = rayset_load(o->rays_file, err, sizeof err);
+        if (!rs) {
             fprintf(stderr, "accelbench: %s\n", err);
             return -1;
         }
-        if (strcmp(in->rs->scene, s->name) != 0)
+        if (strcmp(rs->scene, s->name) != 0)
             fprintf(stderr, "accelbench: warning: %s was made for scene '%s', replaying on '%s'\n", o->rays_file,
-                    in->rs->scene, s->name);
+                    rs->scene, s->name);
     } else {
-        in->rs = w->make(s, ref, &o->wl);
+        rs = w->make(s, ref, &o->wl);
     }
-    in->ref = answers_new(in->rs, false);
-    in->ref_warm_ms = trace_rayset(ref, in->rs, o->threads, in->ref);
-    in->illposed = verify_count_illposed(s, in->rs, ref, o->threads);
+    cell_rays_init(in, s, ref, ver, rs, o->threads);
     return 0;
-}
-
-static void cell_release(cell_input *in)
-{
-    answers_free(in->ref);
-    rayset_free(in->rs);
-    memset(in, 0, sizeof *in);
 }
 
 static bool accel_runs_workload(const struct accel_ops *ops, query_kind q)
 {
     return !(ops->flags & ACCEL_SHADOW_ONLY) || q == QUERY_ANY;
-}
-
-/* Accelerators that reorder themselves while tracing run on one thread. */
-static int threads_for(const accel_config *ac, const options *o)
-{
-    return (ac->ops->flags & ACCEL_MUTATES) ? 1 : o->threads;
 }
 
 /* Load scene number si, build its reference and its verifier; errors go
@@ -120,6 +97,23 @@ static void close_scene(scene_t *s, accel *ref, verifier_t *ver)
     scene_free(s);
 }
 
+/* The progress line of a measured cell, and its statistics on a line of
+ * their own. */
+static void print_progress(int done, int total, const cell_result *cr)
+{
+    const csv_row *r = &cr->row;
+    fprintf(stderr, "[%d/%d] %s %s %s: %u rays, build %.1f ms, trace %.2f ms (%.3f Mrays/s, %.2fx embree, pairs "
+                    "%.2f-%.2f, %s), agree %llu, real mismatches %llu\n",
+            done, total, r->scene, r->accel, r->workload, r->rays, r->build_ms, r->trace_ms, r->mrays_per_s,
+            r->ratio_vs_embree, r->ratio_min, r->ratio_max, r->timed_path, (unsigned long long)r->agree,
+            (unsigned long long)r->mismatch_real);
+    if (r->nstats) {
+        char buf[1024];
+        stats_format(r, buf, sizeof buf);
+        fprintf(stderr, "        stats: %s\n", buf);
+    }
+}
+
 int matrix_run(options *o)
 {
     machine_info mi;
@@ -136,11 +130,13 @@ int matrix_run(options *o)
     snprintf(info_path, sizeof info_path, "%s/run.txt", out_dir);
     FILE *info = fopen(info_path, "a");
     if (info) {
-        fprintf(info, "command: %s\nmachine: %s\ncpu: %s\ngit_rev: %s\ndate: %s\nthreads: %d\nrepeat: %d (after 1 warm-up; median reported)\n\n",
+        fprintf(info, "command: %s\nmachine: %s\ncpu: %s\ngit_rev: %s\ndate: %s\nthreads: %d\nrepeat: %d (timed samples, each paired with one of Embree's at the same thread count, after 1 warm-up; medians reported)\n\n",
                 o->argv_line, mi.host, mi.cpu, mi.git_rev, mi.date, o->threads, o->repeat);
         fclose(info);
     }
     int total = o->nscenes * o->nworkloads * o->naccels, done = 0, status = 0;
+    cell_settings settings = {.threads = o->threads, .repeat = o->repeat, .width = o->wl.width, .height = o->wl.height,
+                              .spp = o->wl.spp, .mi = &mi};
     double wall0 = clock_ms();
     for (int si = 0; si < o->nscenes; si++) {
         accel *ref;
@@ -152,57 +148,25 @@ int matrix_run(options *o)
         }
         int nw = o->rays_file ? 1 : o->nworkloads;
         for (int wi = 0; wi < nw && status == 0; wi++) {
-            cell_input in;
-            if (cell_prepare(o, s, ref, o->workloads[wi], &in)) {
+            cell_rays in;
+            if (cell_prepare(o, s, ref, ver, o->workloads[wi], &in)) {
                 status = 2;
                 break;
             }
             if (o->save_rays && save_rays(o, in.rs, o->nscenes * nw)) status = 2;
-            /* Embree's time on the same rays, same run: the denominator of ratio_vs_embree. */
-            answers_t *scratch = answers_new(in.rs, false);
-            timing ref_time = time_traces(ref, in.rs, o->threads, o->repeat, in.ref_warm_ms, scratch);
             for (int ai = 0; ai < o->naccels && status == 0; ai++) {
                 const accel_config *ac = &o->accels[ai];
                 done++;
                 if (!accel_runs_workload(ac->ops, in.rs->query)) continue;
-                double build_ms;
-                accel *a = build_accel(ac, s, &build_ms);
-                if (!a) {
+                cell_result cr;
+                if (measure_cell(&in, ac, &settings, &cr)) {
                     status = 2;
                     break;
                 }
-                int threads = threads_for(ac, o);
-                answers_t *got = answers_new(in.rs, false);
-                double warm_ms = trace_rayset(a, in.rs, threads, got); /* warm-up: answers and counters */
-                verify_result vr;
-                verifier_check(ver, in.rs, got, in.ref, &vr);
-                timing tt = time_traces(a, in.rs, threads, o->repeat, warm_ms, scratch);
-                csv_row row = {
-                    .scene = s->name, .prims = s->prims.count, .accel = ac->ops->name, .params = ac->params_str,
-                    .workload = in.rs->workload, .rays = in.rs->count, .threads = threads, .seed = in.rs->seed,
-                    .rayset_hash = in.rs->hash, .build_ms = build_ms, .trace_ms = tt.median, .trace_ms_min = tt.min,
-                    .trace_ms_max = tt.max, .mrays_per_s = tt.median > 0 ? in.rs->count / (tt.median * 1e3) : 0,
-                    .ratio_vs_embree = ref_time.median > 0 ? tt.median / ref_time.median : 0,
-                    .mem_bytes = a->ops->memory(a), .has_counters = !(ac->ops->flags & ACCEL_OPAQUE),
-                    .counters = got->total, .agree = vr.agree, .mismatch_real = vr.mismatches[MM_REAL],
-                    .mismatch_edge = vr.mismatches[MM_EDGE], .mismatch_tol = vr.mismatches[MM_TOL],
-                    .mismatch_refwrong = vr.mismatches[MM_REFWRONG], .mismatch_origin = vr.mismatches[MM_ORIGIN],
-                    .mismatch_unjudged = vr.mismatches[MM_UNJUDGED], .illposed_rays = in.illposed,
-                    .judge_ms = vr.judge_ms, .serial = threads != o->threads,
-                    .width = o->wl.width, .height = o->wl.height, .spp = o->wl.spp, .repeat = o->repeat, .passes = tt.passes,
-                    .git_rev = mi.git_rev, .machine = mi.host, .cpu = mi.cpu, .date = mi.date,
-                };
-                csv_write_row(csv, &row);
-                if (!o->quiet)
-                    fprintf(stderr, "[%d/%d] %s %s %s: %u rays, build %.1f ms, trace %.2f ms (%.3f Mrays/s, %.2fx embree), agree %llu, real mismatches %llu\n",
-                            done, total, s->name, ac->ops->name, in.rs->workload, in.rs->count, build_ms, tt.median,
-                            row.mrays_per_s, row.ratio_vs_embree, (unsigned long long)vr.agree,
-                            (unsigned long long)vr.mismatches[MM_REAL]);
-                answers_free(got);
-                a->ops->destroy(a);
+                csv_write_row(csv, &cr.row);
+                if (!o->quiet) print_progress(done, total, &cr);
             }
-            answers_free(scratch);
-            cell_release(&in);
+            cell_rays_release(&in);
         }
         close_scene(s, ref, ver);
         if (status) break;
@@ -309,8 +273,8 @@ int matrix_verify(options *o)
         if (!s) return 2;
         int nw = o->rays_file ? 1 : o->nworkloads;
         for (int wi = 0; wi < nw && !status; wi++) {
-            cell_input in;
-            if (cell_prepare(o, s, ref, o->workloads[wi], &in)) {
+            cell_rays in;
+            if (cell_prepare(o, s, ref, ver, o->workloads[wi], &in)) {
                 status = 2;
                 break;
             }
@@ -323,32 +287,27 @@ int matrix_verify(options *o)
             for (int ai = 0; ai < o->naccels && !status; ai++) {
                 const accel_config *ac = &o->accels[ai];
                 if (!accel_runs_workload(ac->ops, in.rs->query)) continue;
-                double build_ms;
-                accel *a = build_accel(ac, s, &build_ms);
-                if (!a) {
+                warm_cell wc;
+                if (cell_warm_up(&in, ac, cell_threads(ac->ops, o->threads), &wc)) {
                     status = 2;
                     break;
                 }
-                answers_t *got = answers_new(in.rs, false);
-                trace_rayset(a, in.rs, threads_for(ac, o), got);
-                verify_result vr;
-                verifier_check(ver, in.rs, got, in.ref, &vr);
-                uint64_t counts[VERIFY_NCOUNTS] = {in.rs->count, in.illposed, vr.agree, vr.mismatches[MM_EDGE],
-                                                   vr.mismatches[MM_ORIGIN], vr.mismatches[MM_TOL],
-                                                   vr.mismatches[MM_REFWRONG], vr.mismatches[MM_REAL],
-                                                   vr.mismatches[MM_UNJUDGED]};
+                const verify_result *vr = &wc.vr;
+                uint64_t counts[VERIFY_NCOUNTS] = {in.rs->count, in.illposed, vr->agree, vr->mismatches[MM_EDGE],
+                                                   vr->mismatches[MM_ORIGIN], vr->mismatches[MM_TOL],
+                                                   vr->mismatches[MM_REFWRONG], vr->mismatches[MM_REAL],
+                                                   vr->mismatches[MM_UNJUDGED]};
                 printf("%-*s %-*s %-*s", w.scene, o->scenes[si], w.workload, in.rs->workload, w.accel, ac->label);
                 for (int k = 0; k < VERIFY_NCOUNTS; k++) printf(" %9llu", (unsigned long long)counts[k]);
                 printf("\n");
-                if (vr.mismatches[MM_REAL]) any_real = true;
-                unjudged += vr.mismatches[MM_UNJUDGED];
-                if (o->ray_index >= 0) replay_ray(s, ver, in.rs, (uint32_t)o->ray_index, got, in.ref, ac->ops->name);
+                if (vr->mismatches[MM_REAL]) any_real = true;
+                unjudged += vr->mismatches[MM_UNJUDGED];
+                if (o->ray_index >= 0) replay_ray(s, ver, in.rs, (uint32_t)o->ray_index, wc.got, in.ref_answers, ac->ops->name);
                 else
-                    for (uint32_t k = 0; k < vr.nlisted; k++) print_mismatch(o, in.rs, &vr.listed[k], ac, o->scenes[si]);
-                answers_free(got);
-                a->ops->destroy(a);
+                    for (uint32_t k = 0; k < vr->nlisted; k++) print_mismatch(o, in.rs, &vr->listed[k], ac, o->scenes[si]);
+                warm_cell_release(&wc);
             }
-            cell_release(&in);
+            cell_rays_release(&in);
         }
         close_scene(s, ref, ver);
     }

@@ -1,7 +1,8 @@
 /* matrix.h: the scene x accelerator x workload loop behind `run` and
  * `verify`. Data flows one way: scene -> ray set -> reference answers ->
- * each accelerator's build, warm-up trace (answers and counters), verify,
- * timed repeats -> CSV row / verify table. */
+ * each accelerator's cell (measure.h: build, warm-up with answers and
+ * counters, verify, timing paired with Embree's) -> CSV row / verify
+ * table (verify stops after the warm-up). */
 #ifndef ACCELBENCH_MATRIX_H
 #define ACCELBENCH_MATRIX_H
 

@@ -1,59 +1,124 @@
-/* measure.c: timing, building and folders shared by run and reproduce
- * (see measure.h). Moved unchanged from matrix.c. */
+/* measure.c: one cell, measured the same way by run and reproduce (see
+ * measure.h). */
 #include "measure.h"
 
-#ifndef ACCELBENCH_SOURCE_DIR
-#define ACCELBENCH_SOURCE_DIR "."
-#endif
-#include <string.h>
-#include <time.h>
-
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
-#include <sys/stat.h>
+#include <string.h>
 
-static int cmp_double(const void *a, const void *b)
+void cell_rays_init(cell_rays *c, const scene_t *s, accel *ref, verifier_t *ver, rayset_t *rs, int threads)
 {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
+    memset(c, 0, sizeof *c);
+    c->scene = s;
+    c->rs = rs;
+    c->ref = ref;
+    c->ver = ver;
+    c->ref_answers = answers_new(rs, false);
+    trace_rayset(ref, rs, threads, c->ref_answers);
+    c->illposed = verify_count_illposed(s, rs, ref, threads);
 }
 
-timing time_traces(accel *a, const rayset_t *rs, int threads, int repeat, double warm_ms, answers_t *scratch)
+void cell_rays_release(cell_rays *c)
 {
-    timing t;
-    t.passes = warm_ms >= SAMPLE_MIN_MS ? 1 : warm_ms <= SAMPLE_MIN_MS / PASSES_MAX ? PASSES_MAX
-                                                                                    : (int)ceil(SAMPLE_MIN_MS / warm_ms);
-    double *ms = calloc((size_t)repeat, sizeof *ms);
-    if (!ms) abort();
-    for (int k = 0; k < repeat; k++) ms[k] = trace_rayset_passes(a, rs, threads, t.passes, scratch) / t.passes;
-    qsort(ms, (size_t)repeat, sizeof *ms, cmp_double);
-    t.median = repeat % 2 ? ms[repeat / 2] : 0.5 * (ms[repeat / 2 - 1] + ms[repeat / 2]);
-    t.min = ms[0];
-    t.max = ms[repeat - 1];
-    free(ms);
-    return t;
+    answers_free(c->ref_answers);
+    rayset_free(c->rs);
+    memset(c, 0, sizeof *c);
 }
 
-int mkdir_p(const char *path)
+int cell_threads(const struct accel_ops *ops, int threads)
 {
-    char buf[1024];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1; *p; p++)
-        if (*p == '/') {
-            *p = 0;
-            if (mkdir(buf, 0777) && errno != EEXIST) return -1;
-            *p = '/';
-        }
-    return mkdir(buf, 0777) && errno != EEXIST ? -1 : 0;
+    return (ops->flags & ACCEL_MUTATES) ? 1 : threads;
 }
 
-static const struct accel_ops *reference_ops(void) { return accel_find("embree"); }
+int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_cell *w)
+{
+    memset(w, 0, sizeof *w);
+    w->a = build_accel(ac, c->scene, &w->build_ms);
+    if (!w->a) return -1;
+    w->threads = threads;
+    w->got = answers_new(c->rs, false);
+    accel_reset(w->a);
+    w->warm_ms = trace_rayset(w->a, c->rs, threads, w->got);
+    verifier_check(c->ver, c->rs, w->got, c->ref_answers, &w->vr);
+    return 0;
+}
+
+void warm_cell_release(warm_cell *w)
+{
+    answers_free(w->got);
+    if (w->a) w->a->ops->destroy(w->a);
+    memset(w, 0, sizeof *w);
+}
+
+/* The CSV's timed_path: the methods the timed samples call. "opaque" is
+ * the counting methods of an accelerator whose work is not observable
+ * (Embree): they count nothing, so nothing is taxed. */
+static const char *timed_path_name(const accel *a, query_kind q)
+{
+    if (trace_has_fast(a, q)) return "fast";
+    return (a->ops->flags & ACCEL_OPAQUE) ? "opaque" : "counting";
+}
+
+/* The statistics read after the timed samples, with lazy_build_ms (the
+ * last pass's) replaced by its median over the samples. */
+static int read_stats(const accel *a, const paired_timing *pt, accel_stat *st)
+{
+    int n = accel_stats(a, st, ACCEL_STATS_MAX);
+    for (int i = 0; i < n; i++)
+        if (strcmp(st[i].name, "lazy_build_ms") == 0 && !isnan(pt->a.lazy_build_ms)) st[i].value = pt->a.lazy_build_ms;
+    return n;
+}
+
+int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_result *out)
+{
+    const rayset_t *rs = c->rs;
+    warm_cell w;
+    if (cell_warm_up(c, ac, cell_threads(ac->ops, st->threads), &w)) return -1;
+    answers_t *scratch = answers_new(rs, false);
+    /* Each series' passes come from untimed traces of its own path (the
+     * warm-up is one when the accelerator has no fast path); the reference
+     * runs on the accelerator's thread count, whatever it was built with. */
+    timed_series sa = {.a = w.a, .threads = w.threads, .path = TRACE_FAST};
+    timed_series se = {.a = c->ref, .threads = w.threads, .path = TRACE_FAST};
+    sa.passes = timing_calibrate(&sa, rs, scratch, trace_has_fast(w.a, rs->query) ? -1 : w.warm_ms);
+    se.passes = timing_calibrate(&se, rs, scratch, -1);
+    paired_timing pt = timing_pairs(&sa, &se, rs, st->repeat, scratch);
+    answers_free(scratch);
+
+    const verify_result *vr = &w.vr;
+    out->vr = w.vr;
+    csv_row *r = &out->row;
+    *r = (csv_row){
+        .scene = c->scene->name, .prims = c->scene->prims.count, .accel = ac->ops->name, .params = ac->params_str,
+        .workload = rs->workload, .rays = rs->count, .threads = w.threads, .seed = rs->seed, .rayset_hash = rs->hash,
+        .build_ms = w.build_ms, .trace_ms = pt.a.median, .trace_ms_min = pt.a.min, .trace_ms_max = pt.a.max,
+        .mrays_per_s = pt.a.median > 0 ? rs->count / (pt.a.median * 1e3) : 0, .ratio_vs_embree = pt.ratio,
+        .ratio_min = pt.ratio_min, .ratio_max = pt.ratio_max, .embree_ms = pt.e.median, .mem_bytes = w.a->ops->memory(w.a),
+        .has_counters = !(ac->ops->flags & ACCEL_OPAQUE), .counters = w.got->total, .agree = vr->agree,
+        .mismatch_real = vr->mismatches[MM_REAL], .mismatch_edge = vr->mismatches[MM_EDGE],
+        .mismatch_tol = vr->mismatches[MM_TOL], .mismatch_refwrong = vr->mismatches[MM_REFWRONG],
+        .mismatch_origin = vr->mismatches[MM_ORIGIN], .mismatch_unjudged = vr->mismatches[MM_UNJUDGED],
+        .illposed_rays = c->illposed, .judge_ms = vr->judge_ms, .serial = w.threads != st->threads,
+        .width = st->width, .height = st->height, .spp = st->spp, .repeat = st->repeat, .passes = sa.passes,
+        .timed_path = timed_path_name(w.a, rs->query), .git_rev = st->mi->git_rev, .machine = st->mi->host,
+        .cpu = st->mi->cpu, .date = st->mi->date,
+    };
+    r->nstats = read_stats(w.a, &pt, r->stats);
+    warm_cell_release(&w);
+    return 0;
+}
+
+void stats_format(const csv_row *row, char *buf, size_t len)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (int i = 0; i < row->nstats && n < len; i++)
+        n += (size_t)snprintf(buf + n, len - n, "%s%s %.6g", i ? ", " : "", row->stats[i].name, row->stats[i].value);
+}
 
 accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen)
 {
-    const struct accel_ops *ops = reference_ops();
+    const struct accel_ops *ops = accel_find("embree");
     accel_params p;
     params_defaults(&p, ops->params);
     p.threads = threads;
@@ -68,31 +133,4 @@ accel *build_accel(const accel_config *ac, const scene_t *s, double *ms)
     *ms = clock_ms() - t0;
     if (!a) fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
     return a;
-}
-
-int output_folder(const char *given, const char *prefix, char *out, size_t outlen)
-{
-    if (given) snprintf(out, outlen, "%s", given);
-    else {
-        char stamp[32];
-        time_t now = time(NULL);
-        struct tm tm;
-        gmtime_r(&now, &tm);
-        strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
-        snprintf(out, outlen, "results/%s%s", prefix, stamp);
-    }
-    if (mkdir_p(out)) {
-        fprintf(stderr, "accelbench: %s: cannot create output folder: %s\n", out, strerror(errno));
-        return 2;
-    }
-    return 0;
-}
-
-void run_plot_script(const char *script, const char *csv_path, bool quiet)
-{
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s/scripts/%s' '%s' %s", ACCELBENCH_SOURCE_DIR, script, csv_path,
-             quiet ? "--quiet" : "");
-    int rc = system(cmd);
-    if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
 }

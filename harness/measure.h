@@ -1,42 +1,84 @@
-/* measure.h: the timing and building steps shared by `run` (matrix.c) and
- * `reproduce` (reproduce_woo92.c), so both measure a cell the same way:
- * build (timed), one warm-up trace (answers, counters, verified by the
- * caller), then `repeat` timed samples of which the median is reported. */
+/* measure.h: measuring one cell (an accelerator on one ray set), the one
+ * way `run` (matrix.c) and every `reproduce` do it:
+ *
+ *   1. build, timed;
+ *   2. reset, then one warm-up trace through the counting methods: its
+ *      answers are verified against the reference's and its counters go in
+ *      the CSV;
+ *   3. paired timing against the reference on the same rays at the same
+ *      thread count (timing.h), through the counting-free methods when the
+ *      accelerator has them: trace_ms and ratio_vs_embree with its spread;
+ *   4. the CSV row, with the accelerator's statistics.
+ *
+ * Data flows one way: scene -> ray set -> the reference's answers
+ * (cell_rays) -> each accelerator's cell (cell_result). */
 #ifndef ACCELBENCH_MEASURE_H
 #define ACCELBENCH_MEASURE_H
 
+#include "csv.h"
+#include "machine.h"
 #include "options.h"
 #include "rayset.h"
+#include "timing.h"
 #include "trace.h"
+#include "verify.h"
 
-typedef struct { double median, min, max; int passes; } timing;
+/* A cell's rays: one ray set of one scene and the reference's answers. */
+typedef struct {
+    const scene_t *scene;
+    rayset_t *rs;            /* owned */
+    accel *ref;              /* the reference (Embree): made ref_answers, and is the paired series */
+    answers_t *ref_answers;  /* owned */
+    uint32_t illposed;       /* rays whose reference hit lies within the origin bound (verify.h) */
+    verifier_t *ver;         /* the scene's judge, shared by its cells */
+} cell_rays;
 
-/* A timed sample should last at least this long, so that clock resolution
- * and thread start-up do not dominate small ray sets: a sample traces the
- * set `passes` times, calibrated from the warm-up, and is reported per pass. */
-#define SAMPLE_MIN_MS 20.0
-#define PASSES_MAX 1000
+/* Take rs (and its ownership) and trace the reference's answers on
+ * `threads` threads. */
+void cell_rays_init(cell_rays *c, const scene_t *s, accel *ref, verifier_t *ver, rayset_t *rs, int threads);
+void cell_rays_release(cell_rays *c);
 
-/* Time `repeat` samples (after the caller's warm-up, which took warm_ms)
- * and summarise them per pass. */
-timing time_traces(accel *a, const rayset_t *rs, int threads, int repeat, double warm_ms, answers_t *scratch);
+/* What every row of a run shares. */
+typedef struct {
+    int threads;            /* asked for; an ACCEL_MUTATES accelerator runs on 1 (cell_threads) */
+    int repeat;             /* timed pairs */
+    int width, height, spp; /* the CSV's res and spp */
+    const machine_info *mi;
+} cell_settings;
+
+/* An accelerator built and warmed up on a cell's rays (steps 1-2). */
+typedef struct {
+    accel *a;            /* the caller destroys it (warm_cell_release) */
+    int threads;         /* it is traced on */
+    double build_ms, warm_ms;
+    answers_t *got;      /* the warm-up's answers and counters */
+    verify_result vr;    /* got against the reference */
+} warm_cell;
+
+typedef struct {
+    csv_row row;         /* complete; scene, accel, params and workload point into the cell's scene, config and rays */
+    verify_result vr;
+} cell_result;
+
+/* The threads an accelerator is traced on when `threads` are asked for:
+ * one for an accelerator that reorders itself while tracing. */
+int cell_threads(const struct accel_ops *ops, int threads);
+
+/* Steps 1-2: build ac over the cell's scene and trace its warm-up. Returns
+ * 0, or -1 when the build failed (reported on stderr; nothing to release). */
+int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_cell *w);
+void warm_cell_release(warm_cell *w);
+
+/* Steps 1-4. Returns 0, or -1 when the build failed (reported on stderr). */
+int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_result *out);
+
+/* A row's statistics as "name value, name value" ("" when there are none). */
+void stats_format(const csv_row *row, char *buf, size_t len);
 
 /* Build ac over s, timed; a failure is reported on stderr and gives NULL. */
 accel *build_accel(const accel_config *ac, const scene_t *s, double *ms);
 
 /* The reference accelerator (Embree, default parameters) over s. */
 accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen);
-
-/* mkdir -p; 0 or -1 with errno set. */
-int mkdir_p(const char *path);
-
-/* The output folder of a run: `given` when not NULL, else
- * results/<prefix><date-time UTC>; created with its parents. Returns 0,
- * or 2 after printing a one-line error. */
-int output_folder(const char *given, const char *prefix, char *out, size_t outlen);
-
-/* Run scripts/SCRIPT on a CSV with the system python (matplotlib comes from
- * Debian's python3-matplotlib); a failure is a warning, the CSV stands. */
-void run_plot_script(const char *script, const char *csv_path, bool quiet);
 
 #endif

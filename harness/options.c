@@ -11,7 +11,8 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS };
+enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
+       OPT_VIEW };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -26,8 +27,13 @@ static const struct option long_opts[] = {
     {"ray", required_argument, NULL, OPT_RAY}, {"no-plots", no_argument, NULL, OPT_NO_PLOTS},
     {"heatmap", required_argument, NULL, OPT_HEATMAP}, {"quiet", no_argument, NULL, 'q'},
     {"judge-seconds", required_argument, NULL, OPT_JUDGE_SECONDS},
+    {"view", required_argument, NULL, OPT_VIEW},
     {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
 };
+
+#define VIEW_USAGE \
+    "  --view 'SPEC'           look from elsewhere: any of eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG, applied to every\n" \
+    "                          scene after loading (as SCENE@SPEC; catalogue views: SCENE@NAME, accelbench list scenes)\n"
 
 void options_usage(FILE *out, const char *cmd)
 {
@@ -40,7 +46,8 @@ void options_usage(FILE *out, const char *cmd)
                 "  --res WxH               image size (default: the scene's view, e.g. 512x512)\n"
                 "  --spp N                 samples per pixel (default 1)\n"
                 "  --param ACCEL.KEY=VALUE accelerator parameter (see accelbench list accels)\n"
-                "  --threads N             threads for the heat map's tracing (default: all cores)\n");
+                "  --threads N             threads for the heat map's tracing (default: all cores)\n"
+                "%s", VIEW_USAGE);
         return;
     }
     fprintf(out,
@@ -59,8 +66,9 @@ void options_usage(FILE *out, const char *cmd)
             "  --rays FILE             replay a saved ray set instead of making workloads\n"
             "  --save-rays PATH        save the ray sets (a file for one set, else a folder)\n"
             "  --judge-seconds S       time the exact judge may spend on one cell's disputed rays; rays past it\n"
-            "                          are counted as unjudged (default %g; 0 = no limit)\n",
-            cmd, VERIFY_JUDGE_SECONDS);
+            "                          are counted as unjudged (default %g; 0 = no limit)\n"
+            "%s",
+            cmd, VERIFY_JUDGE_SECONDS, VIEW_USAGE);
     if (strcmp(cmd, "run") == 0)
         fprintf(out,
                 "  --repeat N              timed repeats after one warm-up; the median is reported (default 5)\n"
@@ -131,6 +139,23 @@ static char *join_args(int argc, char **argv)
         if (q) strcat(s, "'");
     }
     return s;
+}
+
+/* --view reaches every command through the scene names: SCENE@SPEC is
+ * what scene_load applies after loading, so run, verify and render need no
+ * code of their own for it, and the CSV's scene column says which view. */
+static void add_view(options *o)
+{
+    size_t total = 0, vlen = strlen(o->view);
+    for (int i = 0; i < o->nscenes; i++) total += strlen(o->scenes[i]) + vlen + 2;
+    o->view_names = malloc(total ? total : 1);
+    if (!o->view_names) abort();
+    char *p = o->view_names;
+    for (int i = 0; i < o->nscenes; i++) {
+        int n = sprintf(p, "%s@%s", o->scenes[i], o->view);
+        o->scenes[i] = p;
+        p += n + 1;
+    }
 }
 
 int options_parse(options *o, const char *cmd, int argc, char **argv)
@@ -237,6 +262,20 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             o->judge_seconds = j;
             break;
         }
+        case OPT_VIEW: {
+            scene_view v;
+            char why[512];
+            if (o->view) {
+                fprintf(stderr, "accelbench: --view given twice ('%s', then '%s')\n", o->view, optarg);
+                return 2;
+            }
+            if (scene_view_parse(optarg, &v, why, sizeof why) != 0) {
+                fprintf(stderr, "accelbench: --view %s: %s\n", optarg, why);
+                return 2;
+            }
+            o->view = optarg;
+            break;
+        }
         case 'q': o->quiet = true; break;
         case 'h': options_usage(stdout, cmd); return 1;
         default:
@@ -254,6 +293,16 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         return 2;
     }
     o->res_given = res_given;
+    if (o->view) add_view(o);
+    /* An absent repository mesh or a bad view fails now, not after the
+     * scenes before it have run. */
+    for (int i = 0; i < o->nscenes; i++) {
+        char why[1024];
+        if (scene_check(o->scenes[i], why, sizeof why) != 0) {
+            fprintf(stderr, "accelbench: %s\n", why);
+            return 2;
+        }
+    }
 
     /* Accelerators, then their parameters. */
     const char *names[OPT_LIST_MAX];
@@ -336,7 +385,11 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     return 0;
 }
 
-void options_free(options *o) { free(o->argv_line); }
+void options_free(options *o)
+{
+    free(o->argv_line);
+    free(o->view_names);
+}
 
 /* Append one shell word, quoted when it holds anything the shell would split or expand. */
 static void append_word(char *buf, size_t len, const char *word)
@@ -354,7 +407,16 @@ void options_replay_command(const options *o, const char *scene, const char *wor
     char word[1200];
     snprintf(buf, len, "accelbench verify");
     append_word(buf, len, "--scenes");
-    append_word(buf, len, scene);
+    /* A --view comes back as --view: its commas cannot go inside --scenes. */
+    size_t sl = strlen(scene), vl = o->view ? strlen(o->view) : 0;
+    if (o->view && sl > vl && scene[sl - vl - 1] == '@' && !strcmp(scene + sl - vl, o->view)) {
+        snprintf(word, sizeof word, "%.*s", (int)(sl - vl - 1), scene);
+        append_word(buf, len, word);
+        append_word(buf, len, "--view");
+        append_word(buf, len, o->view);
+    } else {
+        append_word(buf, len, scene);
+    }
     if (o->rays_file) {
         append_word(buf, len, "--rays");
         append_word(buf, len, o->rays_file);

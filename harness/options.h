@@ -36,6 +36,8 @@ typedef struct {
     bool res_given;       /* --res was on the command line */
     double judge_seconds; /* the exact judge's time budget per cell (0: none) */
     char *argv_line;      /* the command as typed, for run.txt */
+    const char *view;     /* --view SPEC (scene_view_parse), or NULL; every scenes[i] then ends in "@SPEC" */
+    char *view_names;     /* the storage of those scene names */
 } options;
 
 /* Parse the options of subcommand `cmd` (run, verify, render). Returns 0,

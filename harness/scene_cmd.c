@@ -1,7 +1,8 @@
 /* scene_cmd.c: looking at scenes without tracing them.
  *
- *   accelbench scene info SCENE [SCENE ...]   counts by kind, bounds, lights, view, geometry hash
- *   accelbench scene export SCENE --nff FILE  write the scene as NFF (exact %.9g round trip) */
+ *   accelbench scene info SCENE [SCENE ...] [--view SPEC]   counts by kind, bounds, lights, view, geometry hash
+ *   accelbench scene export SCENE --nff FILE                write the scene as NFF (exact %.9g round trip)
+ * A view is given as SCENE@VIEW or --view, as for run (scene_load applies it). */
 #include "scene_cmd.h"
 
 #include <inttypes.h>
@@ -14,10 +15,11 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: accelbench scene info SCENE [SCENE ...]\n"
+            "usage: accelbench scene info SCENE [SCENE ...] [--view SPEC]\n"
             "       accelbench scene export SCENE --nff FILE\n"
             "  info    primitive counts by kind, bounds, lights, view and a hash of the primitives\n"
-            "          (the same hash for the same geometry, whatever file or generator it came from)\n"
+            "          (the same hash for the same geometry, whatever file or generator it came from);\n"
+            "          SCENE@VIEW or --view 'eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG' moves the camera\n"
             "  export  write the scene as NFF; reading it back gives the same hash\n");
 }
 
@@ -31,9 +33,9 @@ static void print_info(const scene_t *s, double load_ms)
            p->ntris, p->ndegenerate, p->nspheres, p->ncones, p->npolygons, p->nverts);
     printf("bounds     (%g %g %g) .. (%g %g %g), diagonal %g\n", s->bounds.lo.x, s->bounds.lo.y, s->bounds.lo.z,
            s->bounds.hi.x, s->bounds.hi.y, s->bounds.hi.z, box_diagonal(s->bounds));
-    printf("view       from (%g %g %g) at (%g %g %g) up (%g %g %g) angle %g hither %g resolution %dx%d\n", c->from.x,
-           c->from.y, c->from.z, c->at.x, c->at.y, c->at.z, c->up.x, c->up.y, c->up.z, c->fov_deg, c->hither, c->width,
-           c->height);
+    printf("view       %s: from (%g %g %g) at (%g %g %g) up (%g %g %g) angle %g hither %g resolution %dx%d\n", s->view,
+           c->from.x, c->from.y, c->from.z, c->at.x, c->at.y, c->at.z, c->up.x, c->up.y, c->up.z, c->fov_deg, c->hither,
+           c->width, c->height);
     printf("lights     %u:", s->nlights);
     for (uint32_t i = 0; i < s->nlights; i++) printf(" (%g %g %g)", s->lights[i].x, s->lights[i].y, s->lights[i].z);
     printf("\nmaterials  %u\n", s->nmaterials);
@@ -50,13 +52,33 @@ int scene_cmd_main(int argc, char **argv)
     }
     char err[512];
     if (!strcmp(argv[1], "info")) {
-        if (argc < 3) {
+        const char *view = NULL;
+        int nnames = 0;
+        for (int i = 2; i < argc; i++) {
+            if (strcmp(argv[i], "--view") != 0) {
+                argv[2 + nnames++] = argv[i];
+                continue;
+            }
+            scene_view v;
+            if (i + 1 == argc || view) {
+                fprintf(stderr, "accelbench scene info: %s\n", view ? "--view given twice" : "--view needs a SPEC");
+                return 2;
+            }
+            view = argv[++i];
+            if (scene_view_parse(view, &v, err, sizeof err) != 0) {
+                fprintf(stderr, "accelbench: --view %s: %s\n", view, err);
+                return 2;
+            }
+        }
+        if (nnames == 0) {
             fprintf(stderr, "accelbench scene info: name a scene (see accelbench list scenes)\n");
             return 2;
         }
-        for (int i = 2; i < argc; i++) {
+        for (int i = 2; i < 2 + nnames; i++) {
             double t0 = clock_ms();
-            scene_t *s = scene_load(argv[i], err, sizeof err);
+            char name[1024];
+            snprintf(name, sizeof name, "%s%s%s", argv[i], view ? "@" : "", view ? view : "");
+            scene_t *s = scene_load(name, err, sizeof err);
             if (!s) {
                 fprintf(stderr, "accelbench: %s\n", err);
                 return 2;

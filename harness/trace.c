@@ -45,10 +45,18 @@ void answers_free(answers_t *a)
     free(a);
 }
 
+bool trace_has_fast(const accel *a, query_kind q)
+{
+    const struct accel_ops *ops = a->ops;
+    return ops->version >= 2 && (q == QUERY_CLOSEST ? ops->intersect_fast != NULL : ops->occluded_fast != NULL);
+}
+
 typedef struct {
     accel *a;
     const rayset_t *rs;
     answers_t *out;
+    bool fast;           /* the counting-free methods (TRACE_FAST, when the accelerator has them) */
+    bool guarded;        /* the set holds rays that are not ray_traceable(): answer those "miss" here */
     uint64_t total;      /* rays to trace: count * passes */
     atomic_uint_fast64_t next;
 } job_t;
@@ -59,30 +67,72 @@ typedef struct {
     counters_t counters;
 } worker_t;
 
-/* Trace rays [begin, end): the query test and the method lookup are
- * hoisted out of the loop, which is the hot path of every measurement. */
+/* Trace rays [begin, end): the query test, the path test and the method
+ * lookup are hoisted out of the loops, which are the hot path of every
+ * measurement; the fast loops differ from the counting ones only in the
+ * method and its missing counters argument. */
 static void trace_range(const job_t *j, accel_ctx *ctx, uint32_t begin, uint32_t end, counters_t *c)
 {
     accel *a = j->a;
+    const struct accel_ops *ops = a->ops;
     const ray_t *rays = j->rs->rays;
     if (j->rs->query == QUERY_CLOSEST) {
-        bool (*intersect)(accel *, accel_ctx *, const ray_t *, hit_t *, counters_t *) = a->ops->intersect;
         hit_t *hits = j->out->hits;
-        for (uint32_t i = begin; i < end; i++) {
-            hits[i] = hit_none(&rays[i]);
-            intersect(a, ctx, &rays[i], &hits[i], c);
+        if (j->fast) {
+            bool (*intersect)(accel *, accel_ctx *, const ray_t *, hit_t *) = ops->intersect_fast;
+            for (uint32_t i = begin; i < end; i++) {
+                hits[i] = hit_none(&rays[i]);
+                intersect(a, ctx, &rays[i], &hits[i]);
+            }
+        } else {
+            bool (*intersect)(accel *, accel_ctx *, const ray_t *, hit_t *, counters_t *) = ops->intersect;
+            for (uint32_t i = begin; i < end; i++) {
+                hits[i] = hit_none(&rays[i]);
+                intersect(a, ctx, &rays[i], &hits[i], c);
+            }
         }
     } else {
-        bool (*occluded)(accel *, accel_ctx *, const ray_t *, counters_t *) = a->ops->occluded;
         uint8_t *occ = j->out->occluded;
-        for (uint32_t i = begin; i < end; i++) occ[i] = occluded(a, ctx, &rays[i], c);
+        if (j->fast) {
+            bool (*occluded)(accel *, accel_ctx *, const ray_t *) = ops->occluded_fast;
+            for (uint32_t i = begin; i < end; i++) occ[i] = occluded(a, ctx, &rays[i]);
+        } else {
+            bool (*occluded)(accel *, accel_ctx *, const ray_t *, counters_t *) = ops->occluded;
+            for (uint32_t i = begin; i < end; i++) occ[i] = occluded(a, ctx, &rays[i], c);
+        }
+    }
+}
+
+/* Rays that are not traceable never reach the accelerator (prims/ray.h):
+ * they are answered "miss", the runs of good rays between them traced. */
+static void trace_guarded(const job_t *j, accel_ctx *ctx, uint32_t begin, uint32_t end, counters_t *c)
+{
+    const ray_t *rays = j->rs->rays;
+    while (begin < end) {
+        uint32_t good = begin;
+        while (good < end && ray_traceable(&rays[good])) good++;
+        if (good > begin) trace_range(j, ctx, begin, good, c);
+        if (good == end) break;
+        if (j->rs->query == QUERY_CLOSEST) j->out->hits[good] = hit_none(&rays[good]);
+        else j->out->occluded[good] = 0;
+        begin = good + 1;
     }
 }
 
 /* Trace rays [begin, end) of the set, with per-ray counters when asked. */
 static void trace_slice(const job_t *j, worker_t *w, uint32_t begin, uint32_t end)
 {
-    if (!j->out->per_ray) {
+    if (j->guarded) {
+        /* Rare (hand-made sets, tests): one ray at a time is fine here. */
+        for (uint32_t i = begin; i < end; i++) {
+            counters_t c = {0};
+            trace_guarded(j, w->ctx, i, i + 1, &c);
+            if (j->out->per_ray) j->out->per_ray[i] = c;
+            counters_add(&w->counters, &c);
+        }
+        return;
+    }
+    if (!j->out->per_ray || j->fast) {
         trace_range(j, w->ctx, begin, end, &w->counters);
         return;
     }
@@ -119,14 +169,18 @@ static void *worker_main(void *arg)
 
 double trace_rayset(accel *a, const rayset_t *rs, int threads, answers_t *out)
 {
-    return trace_rayset_passes(a, rs, threads, 1, out);
+    return trace_rayset_passes(a, rs, threads, 1, TRACE_COUNTING, out);
 }
 
-double trace_rayset_passes(accel *a, const rayset_t *rs, int threads, int passes, answers_t *out)
+double trace_rayset_passes(accel *a, const rayset_t *rs, int threads, int passes, trace_path path, answers_t *out)
 {
     if (threads < 1) threads = 1;
     if (passes < 1) passes = 1;
-    job_t job = {.a = a, .rs = rs, .out = out, .total = (uint64_t)rs->count * (uint64_t)passes};
+    job_t job = {.a = a, .rs = rs, .out = out, .fast = path == TRACE_FAST && trace_has_fast(a, rs->query),
+                 .total = (uint64_t)rs->count * (uint64_t)passes};
+    /* Checked once per call, before the clock starts: the sets the
+     * workloads make are all traceable, so the timed loops carry no test. */
+    for (uint32_t i = 0; i < rs->count && !job.guarded; i++) job.guarded = !ray_traceable(&rs->rays[i]);
     atomic_init(&job.next, 0);
     worker_t *w = calloc((size_t)threads, sizeof *w);
     pthread_t *tid = calloc((size_t)threads, sizeof *tid);

@@ -2,6 +2,7 @@
 #include "workload.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "rng.h"
@@ -184,9 +185,14 @@ static rayset_t *make_diffuse(const scene_t *s, accel *ref, const workload_opts 
     return rs;
 }
 
-static rayset_t *make_random(const scene_t *s, accel *ref, const workload_opts *o)
+/* Consecutive zero-length segments after which the box is taken to have no
+ * two distinct points a draw can reach. A box with two float values along
+ * one axis gives a zero-length segment with probability about 1/2, so a
+ * healthy box ends a run of 200 with probability 2^-200. */
+#define RANDOM_MAX_REDRAWS 200
+
+rayset_t *workload_random(const scene_t *s, const workload_opts *o, char *err, size_t errlen)
 {
-    (void)ref;
     rayset_t *rs = rayset_new("random", s->name, o->seed, QUERY_CLOSEST);
     /* The box grown by 5% so that segments also start and end outside the geometry. */
     box3 b = s->bounds;
@@ -194,19 +200,42 @@ static rayset_t *make_random(const scene_t *s, accel *ref, const workload_opts *
     b.lo = v3_sub(b.lo, pad);
     ext = v3_add(ext, v3_scale(pad, 2.0f));
     uint64_t n = (uint64_t)o->width * (uint64_t)o->height * (uint64_t)(o->spp < 1 ? 1 : o->spp);
-    for (uint64_t i = 0, draw = 0; i < n; draw++) {
+    for (uint64_t i = 0, draw = 0, redraws = 0; i < n; draw++) {
         vec3 p0 = v3_add(b.lo, v3_mul(ext, v3(rng_float(o->seed, STREAM_RANDOM, draw, 0), rng_float(o->seed, STREAM_RANDOM, draw, 1),
                                               rng_float(o->seed, STREAM_RANDOM, draw, 2))));
         vec3 p1 = v3_add(b.lo, v3_mul(ext, v3(rng_float(o->seed, STREAM_RANDOM, draw, 3), rng_float(o->seed, STREAM_RANDOM, draw, 4),
                                               rng_float(o->seed, STREAM_RANDOM, draw, 5))));
         vec3 d = v3_sub(p1, p0);
         float len = v3_len(d);
-        if (!(len > 0.0f)) continue; /* a zero-length segment is redrawn */
+        if (!(len > 0.0f) || !isfinite(len)) { /* a zero-length segment is redrawn, a bounded number of times */
+            if (++redraws < RANDOM_MAX_REDRAWS) continue;
+            snprintf(err, errlen, "random workload: scene '%s' has no box to draw segments in: %d draws in a row gave a "
+                     "zero-length segment (its bounds (%g %g %g) .. (%g %g %g) are a point, or nearly)", s->name,
+                     RANDOM_MAX_REDRAWS, s->bounds.lo.x, s->bounds.lo.y, s->bounds.lo.z, s->bounds.hi.x,
+                     s->bounds.hi.y, s->bounds.hi.z);
+            rayset_free(rs);
+            return NULL;
+        }
+        redraws = 0;
         ray_t r = {p0, 0.0f, v3_scale(d, 1.0f / len), len, RAY_NO_LIGHT, 0};
         rayset_push(rs, &r, 0);
         i++;
     }
     rayset_seal(rs);
+    return rs;
+}
+
+/* The table's form has no error path: a scene the random workload cannot
+ * draw in is bad input, exit 2 with the reason. */
+static rayset_t *make_random(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    (void)ref;
+    char err[512];
+    rayset_t *rs = workload_random(s, o, err, sizeof err);
+    if (!rs) {
+        fprintf(stderr, "accelbench: %s\n", err);
+        exit(2);
+    }
     return rs;
 }
 

@@ -42,6 +42,11 @@ const workload_def *workload_find(const char *name);
 
 /* Primary rays alone (also used by the renderer). */
 rayset_t *workload_primary(const scene_t *s, const workload_opts *o);
+/* The random workload, or NULL with the reason when the scene's box has no
+ * two points a draw can tell apart (a point): zero-length segments are
+ * redrawn at most 200 times in a row. The table's make() for "random"
+ * prints that reason and exits 2. */
+rayset_t *workload_random(const scene_t *s, const workload_opts *o, char *err, size_t errlen);
 
 /* Where secondary rays leave a hit: the origin, on the incoming ray's side
  * of the surface in exact arithmetic (prim_surface_point and

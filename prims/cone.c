@@ -249,19 +249,6 @@ double cone_boundary_distance(cone_t c, const ray_t *ray, double t)
 /* ---------------------------------------------------------------------- */
 /* bounds                                                                  */
 
-/* Round a double to the float at or below (lo) / at or above (hi) it, so
- * the float box contains the exact one. */
-static float round_down(double x)
-{
-    float f = (float)x;
-    return (double)f > x ? nextafterf(f, -INFINITY) : f;
-}
-static float round_up(double x)
-{
-    float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
-}
-
 /* A disc of radius r, centre C, unit normal n spans C_k +- r sqrt(1 - n_k^2)
  * along axis k; sqrt(n_i^2 + n_j^2) is the same thing without the
  * cancellation of 1 - n_k^2 when n is close to axis k. The truncated cone
@@ -277,8 +264,8 @@ box3 cone_bounds(cone_t c)
         double ni = n[(i + 1) % 3], nj = n[(i + 2) % 3];
         double across = sqrt(ni * ni + nj * nj);
         double eb = K.rb * across, ea = K.ra * across;
-        lo[i] = round_down(fmin(cb[i] - eb, ca[i] - ea));
-        hi[i] = round_up(fmax(cb[i] + eb, ca[i] + ea));
+        lo[i] = float_down(fmin(cb[i] - eb, ca[i] - ea));
+        hi[i] = float_up(fmax(cb[i] + eb, ca[i] + ea));
     }
     box3 bx = {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
     return bx;

@@ -1,5 +1,7 @@
-/* prims.c: the primitive store and the dispatch that counts tests.
- * Kernels live in triangle.c, sphere.c, cone.c, polygon.c and overlap.c. */
+/* prims.c: the primitive store and the dispatch of box overlap, normals
+ * and the verification helpers. The ray tests' dispatch, counting and not,
+ * is intersect.c; kernels live in triangle.c, sphere.c, cone.c, polygon.c
+ * and overlap.c. */
 #include "prims.h"
 #include "prims_internal.h"
 
@@ -232,9 +234,11 @@ int prims_finish(prims_t *p, char *err, size_t errlen)
                 rc = -1;
                 break;
             }
-            vec3 r = v3(s.radius, s.radius, s.radius);
-            b.lo = v3_sub(s.center, r);
-            b.hi = v3_add(s.center, r);
+            /* c -+ r in double, rounded outward: a float sum rounded to
+             * nearest can land half a step inside the sphere. */
+            double r = s.radius;
+            b.lo = v3(float_down(s.center.x - r), float_down(s.center.y - r), float_down(s.center.z - r));
+            b.hi = v3(float_up(s.center.x + r), float_up(s.center.y + r), float_up(s.center.z + r));
         }
         if (rc) break;
         p->bounds[id] = b;
@@ -271,14 +275,6 @@ size_t prims_memory(const prims_t *p)
            (size_t)p->npoly_tris * sizeof *p->poly_tris;
 }
 
-static inline void tri_verts(const prims_t *p, uint32_t k, vec3 *a, vec3 *b, vec3 *c)
-{
-    const tri_t *t = &p->tris[k];
-    *a = p->verts[t->v[0]];
-    *b = p->verts[t->v[1]];
-    *c = p->verts[t->v[2]];
-}
-
 static inline dvec3 hit_point_double(const ray_t *ray, double t)
 {
     dvec3 o = dv3(ray->org), d = dv3(ray->dir);
@@ -309,50 +305,6 @@ bool prim_overlaps_box(const prims_t *p, uint32_t id, box3 box)
     default:
         return false;
     }
-}
-
-bool prim_intersect(const prims_t *p, uint32_t id, const ray_t *ray, hit_t *hit, counters_t *c)
-{
-    uint32_t k = p->index[id];
-    float t, u = 0.0f, v = 0.0f;
-    bool ok = false;
-    c->prim_tests++;
-    switch ((prim_kind)p->kind[id]) {
-    case PRIM_TRIANGLE: {
-        if (p->tri_degenerate[k]) return false;
-        vec3 a, b, cc;
-        tri_verts(p, k, &a, &b, &cc);
-        ok = triangle_intersect(a, b, cc, ray, hit->t, &t, &u, &v);
-        break;
-    }
-    case PRIM_SPHERE:
-        ok = sphere_intersect(p->spheres[k], ray, hit->t, &t);
-        break;
-    case PRIM_CONE:
-        ok = cone_intersect(p->cones[k], ray, hit->t, &t, &u);
-        break;
-    case PRIM_POLYGON: {
-        const polygon_t *g = &p->polygons[k];
-        if (g->degenerate) return false;
-        ok = polygon_intersect(p->verts, p->poly_verts + g->first, g->count, g->normal, g->offset, ray, hit->t, &t);
-        break;
-    }
-    default:
-        break;
-    }
-    if (!ok) return false;
-    c->prim_hits++;
-    hit->t = t;
-    hit->u = u;
-    hit->v = v;
-    hit->prim = id;
-    return true;
-}
-
-bool prim_occluded(const prims_t *p, uint32_t id, const ray_t *ray, counters_t *c)
-{
-    hit_t h = hit_none(ray);
-    return prim_intersect(p, id, ray, &h, c);
 }
 
 vec3 prim_normal(const prims_t *p, const hit_t *hit, const ray_t *ray)

@@ -1,10 +1,11 @@
 /* prims.h: the primitive store and the ONE ray/primitive interface.
  *
  * Every accelerator reaches geometry only through these calls: bounds,
- * exact box overlap, closest-hit and any-hit tests. The tests bump the
+ * exact box overlap, closest-hit and any-hit tests (one primitive or a
+ * leaf of them), extents along a direction. The tests bump the
  * prim_tests / prim_hits counters here, so an "intersection test" means the
  * same thing for every accelerator, and a new primitive kind needs no
- * accelerator change.
+ * accelerator change; their _fast forms (for timed traces) count nothing.
  *
  * Primitive ids are dense, 0..count-1, in scene order (the order of the
  * source file or generator). Each id maps to a kind and an index into that
@@ -140,6 +141,30 @@ bool prim_overlaps_box(const prims_t *p, uint32_t id, box3 box);
 bool prim_intersect(const prims_t *p, uint32_t id, const ray_t *ray, hit_t *hit, counters_t *c);
 /* Any hit in [ray->tnear, ray->tfar). Counts like prim_intersect. */
 bool prim_occluded(const prims_t *p, uint32_t id, const ray_t *ray, counters_t *c);
+
+/* Leaves: the same tests over ids[0 .. n), one call per leaf. intersect
+ * keeps the nearest hit in *hit and returns whether any test hit; occluded
+ * stops at the first primitive that occludes. Each counts one test per
+ * primitive it tests (so occluded counts those up to the occluder). */
+bool prim_intersect_leaf(const prims_t *p, const uint32_t *ids, uint32_t n, const ray_t *ray, hit_t *hit, counters_t *c);
+bool prim_occluded_leaf(const prims_t *p, const uint32_t *ids, uint32_t n, const ray_t *ray, counters_t *c);
+
+/* Counting-free forms for timed traces: exactly the arithmetic of the
+ * counting ones (intersect.c compiles one body both ways), no counter
+ * writes, the same answers bit for bit. */
+bool prim_intersect_fast(const prims_t *p, uint32_t id, const ray_t *ray, hit_t *hit);
+bool prim_occluded_fast(const prims_t *p, uint32_t id, const ray_t *ray);
+bool prim_intersect_leaf_fast(const prims_t *p, const uint32_t *ids, uint32_t n, const ray_t *ray, hit_t *hit);
+bool prim_occluded_leaf_fast(const prims_t *p, const uint32_t *ids, uint32_t n, const ray_t *ray);
+
+/* The exact extent of primitive id along dir (any length, not 0 needed):
+ * [*lo, *hi] contains min and max of dot(x, dir) over its points x,
+ * rounded outward to float (at most about an ulp wider at each end; see
+ * extent.c). Triangles and polygons over their vertices, spheres
+ * c.dir -+ r |dir|, cones over their two rim circles. false (nothing
+ * written) for an id out of range or a NaN or infinite dir. For Kay and
+ * Kajiya's plane-set volumes. */
+bool prim_extent(const prims_t *p, uint32_t id, vec3 dir, float *lo, float *hi);
 
 /* Unit geometric normal at a hit (not flipped toward the ray). */
 vec3 prim_normal(const prims_t *p, const hit_t *hit, const ray_t *ray);

@@ -1,11 +1,33 @@
 /* prims_internal.h: the per-kind kernels behind prims.h's dispatch.
  * One file per kind: triangle.c, sphere.c, cone.c, polygon.c; triangle and
  * sphere box overlap in overlap.c, cone and polygon box overlap in their
- * own files. None of these count; prims.c counts around them. */
+ * own files. None of these count; intersect.c counts around them. */
 #ifndef ACCELBENCH_PRIMS_INTERNAL_H
 #define ACCELBENCH_PRIMS_INTERNAL_H
 
 #include "prims.h"
+
+/* Round a double to the float at or below (down) / at or above (up) it, so
+ * float bounds contain the exact ones. */
+static inline float float_down(double x)
+{
+    float f = (float)x;
+    return (double)f > x ? nextafterf(f, -INFINITY) : f;
+}
+static inline float float_up(double x)
+{
+    float f = (float)x;
+    return (double)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+/* The corners of triangle k (an index into p->tris). */
+static inline void tri_verts(const prims_t *p, uint32_t k, vec3 *a, vec3 *b, vec3 *c)
+{
+    const tri_t *t = &p->tris[k];
+    *a = p->verts[t->v[0]];
+    *b = p->verts[t->v[1]];
+    *c = p->verts[t->v[2]];
+}
 
 /* Watertight ray/triangle test (Woop, Benthin, Wald, JCGT 2(1) 2013), single
  * precision. Accepts tnear <= t < tmax; writes t and barycentrics (u for b,

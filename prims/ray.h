@@ -9,6 +9,7 @@
 
 #include <assert.h> /* static_assert, also in C++ */
 #include <stdint.h>
+#include <stdbool.h>
 #include "vec3.h"
 
 #ifdef __cplusplus
@@ -27,6 +28,25 @@ typedef struct {
     uint32_t pad;   /* keeps the struct 40 bytes and the ray file layout fixed */
 } ray_t;
 static_assert(sizeof(ray_t) == 40, "ray_t is 40 bytes; the ray file format depends on it");
+
+/* The largest coordinate magnitude a traceable ray may have: 2^60, under
+ * Embree's limit (FLT_LARGE, 1.8e19, past which its ray.valid() assertion
+ * aborts) and far from float overflow in o + t d for any t that matters. */
+#define RAY_COORD_MAX 0x1p60f
+
+/* Whether a ray may reach an accelerator: finite origin and direction with
+ * components of magnitude at most RAY_COORD_MAX, a nonzero direction, and
+ * 0 <= tnear <= tfar with tnear finite (tfar may be +inf). The harness
+ * answers any other ray "miss" itself (harness/trace.c), so no accelerator
+ * needs its own check. */
+static inline bool ray_traceable(const ray_t *r)
+{
+    const float c[6] = {r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y, r->dir.z};
+    for (int i = 0; i < 6; i++)
+        if (!(fabsf(c[i]) <= RAY_COORD_MAX)) return false; /* also NaN */
+    if (r->dir.x == 0.0f && r->dir.y == 0.0f && r->dir.z == 0.0f) return false;
+    return r->tnear >= 0.0f && r->tnear <= RAY_COORD_MAX && r->tnear <= r->tfar; /* NaN fails every comparison */
+}
 
 /* A hit: distance, primitive id (scene order) and the primitive's own
  * parameters (barycentrics for triangles, unused for spheres). prim ==

@@ -1,63 +1,162 @@
-/* catalogue.c: scene names to scenes (scene_load) and the list of named
- * scenes (scene_catalogue_print).
+/* catalogue.c: the named meshes, their named views and the named sets of
+ * scenes (scene_catalogue_print lists all three).
  *
- * The named meshes are files shipped by Debian packages, so every machine
- * that installs the package has the same bytes, and nothing is downloaded,
- * plus three meshes kept in the repository (scenes/data/, credits in
- * scenes/README.md), found through the source directory meson compiles in.
- * A name is resolved in this order: "spd:" generators, "file:PATH",
- * catalogue names, then anything that looks like a path. Named sets of
- * scenes ("set:...") are expanded by scene_set_expand(), not loaded. */
-#include "nff.h"
-#include "scene.h"
+ * A named mesh is either a file a Debian package ships (every machine that
+ * installs the package has the same bytes, nothing is downloaded) or a file
+ * from a public repository, which may not be committed to the project and
+ * is found by name on the scene path (scene_path.c); its entry says where
+ * to get it, and scenes/README.md credits it. Views are data here, not code
+ * in the commands that use them, so a view has one name and one value
+ * everywhere (sibenik@nave in reproduce woo92, the rooms test, the CLI).
+ * Named sets ("set:...") are expanded by scene_set_expand(), not loaded.
+ * The name syntax (spd:, gen:, file:, NAME@VIEW) is scene_load.c's. */
+#include "catalogue.h"
 #include "compressed.h"
 #include "spd.h"
 
 #include <errno.h>
-#include <limits.h>
-#include <stdlib.h>
 #include <string.h>
-#include <strings.h>
-#include <sys/stat.h>
 
 typedef struct {
     const char *name;
-    const char *path;    /* FILE or ARCHIVE#MEMBER, see compressed.h */
-    const char *package; /* the Debian package that ships it; NULL: in the repository */
+    const char *path;         /* Debian: FILE or ARCHIVE#MEMBER (compressed.h); else a file name on the scene path */
+    const char *package;      /* the Debian package that ships it; NULL: on the scene path */
+    const char *origin;       /* scene path files: the public repository and path it was made from */
+    const char *default_view; /* a views[] name for this scene, or NULL: scene_finish's automatic camera */
     const char *summary;
 } catalogue_entry;
 
 #define CGAL_DATA "/usr/share/doc/libcgal-demo/data.tar.gz#data/meshes/"
 #define OPENFOAM_EXAMPLES "/usr/share/doc/openfoam-examples/examples/"
-#ifndef ACCELBENCH_SOURCE_DIR
-#define ACCELBENCH_SOURCE_DIR "."
-#endif
-#define REPO_DATA ACCELBENCH_SOURCE_DIR "/scenes/data/"
 
 static const catalogue_entry catalogue[] = {
-    {"bunny", CGAL_DATA "bunny00.off", "libcgal-demo", "Stanford bunny, 75,408 triangles, closed"},
-    {"elephant", CGAL_DATA "refined_elephant.off", "libcgal-demo", "elephant, refined, 88,928 triangles"},
-    {"elephant-small", CGAL_DATA "elephant.off", "libcgal-demo", "elephant, 5,558 triangles"},
-    {"armadillo", CGAL_DATA "armadillo.off", "libcgal-demo", "Stanford armadillo, 52,000 triangles"},
-    {"dragon", CGAL_DATA "ChineseDragon-10kv.off", "libcgal-demo", "Chinese dragon, 19,994 triangles"},
-    {"glbunny", "/usr/share/glmark2/models/bunny.obj", "glmark2-data", "glmark2's bunny, 69,666 triangles"},
-    {"head", "/usr/share/opencascade/data/stl/head.stl", "occt-misc", "OCCT sample head scan (STL), 117,694 triangles"},
-    {"motorbike", OPENFOAM_EXAMPLES "resources/geometry/motorBike.obj.gz", "openfoam-examples",
+    {"bunny", CGAL_DATA "bunny00.off", "libcgal-demo", NULL, NULL, "Stanford bunny, 75,408 triangles, closed"},
+    {"elephant", CGAL_DATA "refined_elephant.off", "libcgal-demo", NULL, NULL, "elephant, refined, 88,928 triangles"},
+    {"elephant-small", CGAL_DATA "elephant.off", "libcgal-demo", NULL, NULL, "elephant, 5,558 triangles"},
+    {"armadillo", CGAL_DATA "armadillo.off", "libcgal-demo", NULL, NULL, "Stanford armadillo, 52,000 triangles"},
+    {"dragon", CGAL_DATA "ChineseDragon-10kv.off", "libcgal-demo", NULL, NULL, "Chinese dragon, 19,994 triangles"},
+    {"glbunny", "/usr/share/glmark2/models/bunny.obj", "glmark2-data", NULL, NULL, "glmark2's bunny, 69,666 triangles"},
+    {"head", "/usr/share/opencascade/data/stl/head.stl", "occt-misc", NULL, NULL,
+     "OCCT sample head scan (STL), 117,694 triangles"},
+    {"motorbike", OPENFOAM_EXAMPLES "resources/geometry/motorBike.obj.gz", "openfoam-examples", NULL, NULL,
      "OpenFOAM tutorial motorbike and rider (OBJ), 331,653 triangles"},
     {"buildings", OPENFOAM_EXAMPLES "incompressible/simpleFoam/windAroundBuildings/constant/triSurface/buildings.obj.gz",
-     "openfoam-examples", "OpenFOAM windAroundBuildings city block (OBJ), 400,020 triangles"},
-    {"sibenik", REPO_DATA "sibenik.obj.xz", NULL, "Sibenik cathedral interior, 75,284 triangles (M. Dabrovic, RNA.HR)"},
-    {"dragon100k", REPO_DATA "dragon100k.obj.xz", NULL, "Stanford dragon decimated to 100,000 triangles"},
-    {"buddha100k", REPO_DATA "buddha100k.obj.xz", NULL, "Stanford Happy Buddha decimated to 100,000 triangles"},
+     "openfoam-examples", NULL, "above", "OpenFOAM windAroundBuildings city block (OBJ), 400,020 triangles, z up"},
+    {"sibenik", "sibenik.obj.xz", NULL, "github.com/taqu/BoundingVolumeHierarchy, file sibenik.zip", "nave",
+     "Sibenik cathedral interior, 75,284 triangles (M. Dabrovic, RNA.HR)"},
+    {"sponza", "sponza.obj.xz", NULL, "github.com/jan-van-bergen/GPU-Raytracer, folder Data/Sponza/models (381 OBJ files, merged)",
+     "courtyard", "Crytek Sponza atrium, 262,205 triangles (F. Meinl, Crytek, CC BY 3.0)"},
+    {"dragon100k", "dragon100k.obj.xz", NULL, "github.com/nwtnni/photon, file models/dragon.obj", NULL,
+     "Stanford dragon decimated to 100,000 triangles"},
+    {"buddha100k", "buddha100k.obj.xz", NULL, "github.com/nwtnni/photon, file models/buddha.obj", NULL,
+     "Stanford Happy Buddha decimated to 100,000 triangles"},
 };
 #define CATALOGUE_N (sizeof catalogue / sizeof catalogue[0])
 
-static bool disk_file_exists(const char *path)
+/* --- named views --- */
+
+typedef struct {
+    const char *scene, *name;
+    scene_view view;
+    const char *why;
+} named_view;
+
+#define ALL_PARTS (SCENE_VIEW_EYE | SCENE_VIEW_AT | SCENE_VIEW_UP | SCENE_VIEW_FOV)
+
+static const named_view views[] = {
+    /* Sibenik is y up and closed: the automatic camera sees its roof from
+     * outside and its lights hang outside, where they light nothing inside. */
+    {"sibenik", "nave",
+     {ALL_PARTS, {-18, -10, 0}, {0, -11, 0}, {0, 1, 0}, 45, 2, {{-6, -4, 0}, {6, -3, 2}}},
+     "inside the nave from the west end toward the altar, lit from inside; every eye ray hits a wall"},
+    /* Sponza's bounds are thinnest in y, so the automatic camera even takes
+     * it for z up; the courtyard view is ../shared/scenes/README.md's. */
+    {"sponza", "courtyard",
+     {ALL_PARTS, {120, 18, -2}, {-100, 30, -2}, {0, 1, 0}, 60, 2, {{0, 120, 0}, {-80, 25, -2}}},
+     "the atrium from its east end along the courtyard, one light high in the open roof and one under the arcade"},
+    /* The city block is z up but not thinnest in y, so the automatic camera
+     * uses y up and sees it on its side; its lights were placed for that. */
+    {"buildings", "above",
+     {ALL_PARTS, {300, -60, 150}, {122, 88, 10}, {0, 0, 1}, 45, 2, {{300, -200, 500}, {-100, 100, 400}}},
+     "the block from above its south-east corner, z up, lit from above"},
+};
+#define VIEWS_N (sizeof views / sizeof views[0])
+
+static const catalogue_entry *find_entry(const char *name)
 {
+    for (size_t i = 0; i < CATALOGUE_N; i++)
+        if (strcmp(name, catalogue[i].name) == 0) return &catalogue[i];
+    return NULL;
+}
+
+bool catalogue_has(const char *name) { return find_entry(name) != NULL; }
+
+const scene_view *catalogue_view(const char *scene, const char *view, char *err, size_t errlen)
+{
+    size_t n = 0;
+    char known[512] = "";
+    for (size_t i = 0; i < VIEWS_N; i++) {
+        if (strcmp(views[i].scene, scene) != 0) continue;
+        if (strcmp(views[i].name, view) == 0) return &views[i].view;
+        n += (size_t)snprintf(known + n, n < sizeof known ? sizeof known - n : 0, "%s%s", n ? ", " : "", views[i].name);
+    }
+    if (known[0])
+        snprintf(err, errlen, "unknown view '%s' (known: %s; or a view spec eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG)", view,
+                 known);
+    else
+        snprintf(err, errlen, "unknown view '%s' (%s has no named views; give a view spec eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG)",
+                 view, scene);
+    return NULL;
+}
+
+/* Where entry e's file is: true with its path in file; false with the
+ * one-line reason in err ("scene 'x': ..."). */
+static bool locate(const catalogue_entry *e, char *file, size_t filelen, char *err, size_t errlen)
+{
+    if (e->package) {
+        if (compressed_exists(e->path)) {
+            snprintf(file, filelen, "%s", e->path);
+            return true;
+        }
+        char disk[4096];
+        compressed_disk_file(e->path, disk, sizeof disk);
+        snprintf(err, errlen, "scene '%s': %s: %s (install the Debian package %s: apt-get install %s)", e->name, disk,
+                 strerror(ENOENT), e->package, e->package);
+        return false;
+    }
+    char where[1024];
+    if (scene_path_find(e->path, file, filelen, where, sizeof where)) return true;
+    snprintf(err, errlen,
+             "scene '%s': %s is not on the scene path (looked in %s); get it from %s, converted as scenes/README.md "
+             "says, into a folder named in $ACCELBENCH_SCENES",
+             e->name, e->path, where, e->origin);
+    return false;
+}
+
+bool catalogue_locate(const char *name, char *file, size_t filelen, char *err, size_t errlen)
+{
+    const catalogue_entry *e = find_entry(name);
+    if (!e) {
+        snprintf(err, errlen, "'%s' is not a catalogue scene (see: accelbench list scenes)", name);
+        return false;
+    }
+    return locate(e, file, filelen, err, errlen);
+}
+
+scene_t *catalogue_load(const char *name, char *err, size_t errlen)
+{
+    const catalogue_entry *e = find_entry(name);
     char file[4096];
-    struct stat st;
-    compressed_disk_file(path, file, sizeof file);
-    return stat(file, &st) == 0;
+    if (!e || !locate(e, file, sizeof file, err, errlen)) return NULL;
+    scene_t *s = scene_load_mesh(e->name, file, err, errlen);
+    if (s && e->default_view) {
+        const scene_view *v = catalogue_view(e->name, e->default_view, err, errlen);
+        if (!v || scene_view_apply(s, v, e->default_view, err, errlen) != 0) {
+            scene_free(s);
+            return NULL;
+        }
+    }
+    return s;
 }
 
 /* --- named sets --- */
@@ -69,7 +168,7 @@ typedef struct {
 } scene_set;
 
 static const scene_set sets[] = {
-    {"set:medium", "the medium benchmark set: Debian-packaged and repository meshes",
+    {"set:medium", "the medium benchmark set: Debian-packaged meshes and three from the scene path",
      "bunny,elephant,armadillo,dragon,glbunny,motorbike,buildings,head,sibenik,dragon100k,buddha100k"},
     {"set:spd", "the seven classic SPD databases at their default sizes",
      "spd:balls:4,spd:gears:4,spd:mount:6,spd:rings:7,spd:teapot:12,spd:tetra:6,spd:tree:11"},
@@ -121,7 +220,39 @@ int scene_set_expand(const char *name, char *out, size_t outlen)
     return 1;
 }
 
-/* --- the catalogue --- */
+
+/* --- the listing --- */
+
+static void print_meshes(FILE *out)
+{
+    fprintf(out, "meshes (Debian packages, or by file name on the scene path: $ACCELBENCH_SCENES, then ../shared/scenes):\n");
+    for (size_t i = 0; i < CATALOGUE_N; i++) {
+        const catalogue_entry *e = &catalogue[i];
+        char file[4096], why[8192];
+        bool here = locate(e, file, sizeof file, why, sizeof why);
+        if (e->package)
+            fprintf(out, "%-16s %s  [%s%s]  %s\n", e->name, e->path, e->package, here ? "" : ", not installed", e->summary);
+        else if (here)
+            fprintf(out, "%-16s %s  [scene path]  %s\n", e->name, file, e->summary);
+        else
+            fprintf(out, "%-16s %s  [scene path, absent: from %s]  %s\n", e->name, e->path, e->origin, e->summary);
+    }
+}
+
+static void print_views(FILE *out)
+{
+    fprintf(out, "views (NAME@VIEW; the default applies to NAME alone; any scene takes NAME@eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG):\n");
+    for (size_t i = 0; i < VIEWS_N; i++) {
+        const named_view *v = &views[i];
+        const catalogue_entry *e = find_entry(v->scene);
+        char label[64];
+        snprintf(label, sizeof label, "%s@%s", v->scene, v->name);
+        const scene_view *w = &v->view;
+        fprintf(out, "  %-20s%s eye %g,%g,%g at %g,%g,%g up %g,%g,%g fov %g, %u lights: %s\n", label,
+                e && e->default_view && !strcmp(e->default_view, v->name) ? " (default)" : "", w->eye.x, w->eye.y, w->eye.z,
+                w->at.x, w->at.y, w->at.z, w->up.x, w->up.y, w->up.z, w->fov_deg, w->nlights, v->why);
+    }
+}
 
 void scene_catalogue_print(FILE *out)
 {
@@ -138,150 +269,8 @@ void scene_catalogue_print(FILE *out)
                  "  gen:room        a 10000x8000x600 hall at coordinates in the thousands: decals, slivers, needles,\n"
                  "                  spheres, a column; the secondary-ray robustness test\n"
                  "  gen:room:empty  its convex shell with decals and corner slivers only: nothing can cast a shadow\n");
-    fprintf(out, "meshes:\n");
-    for (size_t i = 0; i < CATALOGUE_N; i++) {
-        const catalogue_entry *e = &catalogue[i];
-        fprintf(out, "%-16s %s  [%s%s]  %s\n", e->name, e->path, e->package ? e->package : "in the repository",
-                disk_file_exists(e->path) ? "" : ", not installed", e->summary);
-    }
+    print_meshes(out);
+    print_views(out);
     fprintf(out, "sets (for --scenes; expanded to their scene lists):\n");
     for (size_t i = 0; i < SETS_N; i++) fprintf(out, "  %-20s %s\n", sets[i].name, sets[i].summary);
-}
-
-/* Parse a whole decimal int in [lo, hi]; false if s is not one. */
-static bool parse_int(const char *s, int lo, int hi, int *out)
-{
-    if (!*s) return false;
-    for (const char *c = s; *c; c++)
-        if (*c < '0' || *c > '9') return false;
-    errno = 0;
-    long v = strtol(s, NULL, 10);
-    if (errno || v < lo || v > hi) return false;
-    *out = (int)v;
-    return true;
-}
-
-/* spd:NAME, spd:NAME:SIZE, spd:NAME:t[RES], spd:NAME:SIZE:t[RES] */
-static scene_t *load_spd(const char *name, char *err, size_t errlen)
-{
-    char buf[256];
-    if (snprintf(buf, sizeof buf, "%s", name + 4) >= (int)sizeof buf) {
-        snprintf(err, errlen, "%.64s...: name too long", name);
-        return NULL;
-    }
-    char *part[4] = {buf, NULL, NULL, NULL};
-    int nparts = 1;
-    for (char *c = buf; *c; c++)
-        if (*c == ':') {
-            *c = '\0';
-            if (nparts == 4) break;
-            part[nparts++] = c + 1;
-        }
-    const spd_generator *g = spd_generator_find(part[0]);
-    if (!g) {
-        /* scene_spd() words the error, with the list of generators. */
-        return scene_spd(name, part[0], 0, 0, err, errlen);
-    }
-    int size = g->default_size, res = 0;
-    const char *tess = NULL;
-    if (nparts > 3) {
-        snprintf(err, errlen, "%s: expected spd:NAME[:SIZE][:t[RES]]", name);
-        return NULL;
-    }
-    if (nparts >= 2) {
-        if (nparts == 2 && part[1][0] == 't')
-            tess = part[1];
-        else if (!parse_int(part[1], 1, g->max_size, &size)) {
-            snprintf(err, errlen, "spd:%s:%s: size must be 1..%d", g->name, part[1], g->max_size);
-            return NULL;
-        }
-    }
-    if (nparts == 3) tess = part[2];
-    if (tess) {
-        if (tess[0] != 't') {
-            snprintf(err, errlen, "%s: expected ':t' or ':tRES' after the size", name);
-            return NULL;
-        }
-        res = 3; /* the SPD's OUTPUT_RESOLUTION */
-        if (tess[1] && !parse_int(tess + 1, 1, 64, &res)) {
-            snprintf(err, errlen, "%s: tessellation resolution must be 1..64", name);
-            return NULL;
-        }
-    }
-    return scene_spd(name, g->name, size, res, err, errlen);
-}
-
-/* A catalogue mesh: say which package to install when it is missing. */
-/* A file: NFF by its extension (also under .gz/.xz/.bz2), else assimp. */
-static scene_t *load_file(const char *name, const char *path, char *err, size_t errlen)
-{
-    char base[1024];
-    snprintf(base, sizeof base, "%s", path);
-    char *dot = strrchr(base, '.');
-    if (dot && (!strcmp(dot, ".gz") || !strcmp(dot, ".xz") || !strcmp(dot, ".bz2"))) {
-        *dot = 0;
-        dot = strrchr(base, '.');
-    }
-    if (dot && !strcasecmp(dot, ".nff")) return scene_load_nff(name, path, err, errlen);
-    return scene_load_mesh(name, path, err, errlen);
-}
-
-static scene_t *load_catalogue(const catalogue_entry *e, char *err, size_t errlen)
-{
-    if (!disk_file_exists(e->path)) {
-        char file[4096];
-        compressed_disk_file(e->path, file, sizeof file);
-        if (e->package)
-            snprintf(err, errlen, "scene '%s': %s: %s (install the Debian package %s: apt-get install %s)", e->name, file,
-                     strerror(ENOENT), e->package, e->package);
-        else
-            snprintf(err, errlen, "scene '%s': %s: %s (it ships in the repository's scenes/data/; was the source tree moved?)",
-                     e->name, file, strerror(ENOENT));
-        return NULL;
-    }
-    return scene_load_mesh(e->name, e->path, err, errlen);
-}
-
-/* Whether a name that is not a scene name should be read as a file: it
- * exists, or it has a directory part or an extension. */
-static bool looks_like_path(const char *name)
-{
-    if (disk_file_exists(name) || strchr(name, '/')) return true;
-    const char *dot = strrchr(name, '.');
-    return dot && dot != name && dot[1];
-}
-
-scene_t *scene_load(const char *name, char *err, size_t errlen)
-{
-    if (!name || !*name) {
-        snprintf(err, errlen, "empty scene name (see: accelbench list scenes)");
-        return NULL;
-    }
-    if (strncmp(name, "spd:", 4) == 0) return load_spd(name, err, errlen);
-    if (strcmp(name, "gen:room") == 0 || strcmp(name, "gen:room:empty") == 0)
-        return scene_gen_room(name, name[8] != '\0', err, errlen);
-    if (strncmp(name, "gen:", 4) == 0) {
-        snprintf(err, errlen, "unknown generated scene '%s' (known: gen:room, gen:room:empty)", name);
-        return NULL;
-    }
-    if (strncmp(name, "set:", 4) == 0) {
-        char list[8];
-        if (scene_set_expand(name, list, sizeof list) != 0)
-            snprintf(err, errlen, "'%s' is a set of scenes, not one scene (expand it with scene_set_expand)", name);
-        else
-            snprintf(err, errlen, "unknown scene set '%s' (see: accelbench list scenes)", name);
-        return NULL;
-    }
-    if (strncmp(name, "file:", 5) == 0) {
-        if (!name[5]) {
-            snprintf(err, errlen, "file: needs a path, as in file:PATH");
-            return NULL;
-        }
-        return load_file(name, name + 5, err, errlen);
-    }
-    for (size_t i = 0; i < CATALOGUE_N; i++)
-        if (strcmp(name, catalogue[i].name) == 0) return load_catalogue(&catalogue[i], err, errlen);
-    if (looks_like_path(name)) return load_file(name, name, err, errlen);
-    snprintf(err, errlen, "unknown scene '%s' (see: accelbench list scenes)", name);
-    return NULL;
 }

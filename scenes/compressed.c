@@ -121,6 +121,14 @@ void compressed_disk_file(const char *path, char *file, size_t filelen)
     split_path(path, file, filelen, &member);
 }
 
+bool compressed_exists(const char *path)
+{
+    char file[4096];
+    struct stat st;
+    compressed_disk_file(path, file, sizeof file);
+    return stat(file, &st) == 0;
+}
+
 /* Read the current entry's data to the end into a malloc'd buffer with a
  * terminating NUL. hint is the expected size or 0. */
 static int read_entry(struct archive *a, size_t hint, const char *what, file_data_t *out, char *err, size_t errlen)

@@ -14,6 +14,7 @@
 #ifndef ACCELBENCH_COMPRESSED_H
 #define ACCELBENCH_COMPRESSED_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 typedef struct {
@@ -35,6 +36,9 @@ void compressed_free(file_data_t *f);
  * ARCHIVE#MEMBER (the longest prefix before a '#' that is an existing file,
  * else the part before the last '#'). Used to tell which package is missing. */
 void compressed_disk_file(const char *path, char *file, size_t filelen);
+
+/* Whether PATH's disk file (above) exists; the member is not looked for. */
+bool compressed_exists(const char *path);
 
 /* The lower-case extension of a file name without the dot ("off"), or ""
  * when there is none. Writes at most extlen-1 characters. */

@@ -26,15 +26,18 @@
  *   missing numbers as 0; the OBJ reader drops empty faces. The log is
  *   captured during the import and an error-level message fails the load
  *   (except the harmless ones, see on_log()), so a scene is never silently
- *   different from its file. Plain OFF files are also checked beforehand
- *   (off_check()), which catches a file cut mid-line and names the line.
+ *   different from its file. OBJ, OFF, PLY and STL files are also checked
+ *   beforehand (mesh_check.c), which catches what assimp lets through or
+ *   chokes on (a file cut mid-line or mid-face, counts no file could
+ *   hold, coordinates outside the scene range) and names the line.
  *   The capture uses assimp's global logger, so loading is not
  *   thread-safe (scenes are loaded by one thread).
  *
- * Points and lines are skipped and counted in the scene's source string;
+ * Points and lines (OBJ "l" and "p" elements) are skipped and counted in the scene's source string;
  * the default camera, lights and material come from scene_finish(). */
 #include "scene.h"
 #include "compressed.h"
+#include "mesh_check.h"
 
 #include <assimp/cfileio.h>
 #include <assimp/cimport.h>
@@ -45,6 +48,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 typedef struct {
     char first_error[256]; /* the first error-level log message, "" if none */
@@ -110,134 +114,14 @@ static int check_raw(const struct aiScene *as, const char *path, char *err, size
                          p.x, p.y, p.z);
                 return -1;
             }
-        }
-    }
-    return 0;
-}
-
-/* --- OFF pre-check ---
- * assimp's OFF reader reads missing numbers as 0, so a file cut inside a
- * line loads as different geometry without a word. Plain "OFF" files (the
- * CGAL meshes) are therefore checked here first, line by line as assimp
- * reads them: the counts, NV lines of at least 3 numbers, NF lines of
- * "K i1 .. iK" with every index in range. Extra numbers (colours) are
- * allowed. Variants (COFF, NOFF, STOFF, 4OFF, nOFF, headerless) go to assimp
- * unchecked. */
-
-typedef struct {
-    const char *p, *end;
-    unsigned line;   /* number of the line last returned, 1-based */
-    char buf[4096];  /* assimp's line limit too */
-} line_reader;
-
-/* The next line that is not blank once its '#' comment is removed; NULL at
- * the end of the data. */
-static const char *next_line(line_reader *r)
-{
-    while (r->p < r->end) {
-        const char *eol = memchr(r->p, '\n', (size_t)(r->end - r->p));
-        if (!eol) eol = r->end;
-        size_t n = (size_t)(eol - r->p);
-        if (n >= sizeof r->buf) n = sizeof r->buf - 1;
-        memcpy(r->buf, r->p, n);
-        r->buf[n] = '\0';
-        r->p = eol < r->end ? eol + 1 : r->end;
-        r->line++;
-        char *hash = strchr(r->buf, '#');
-        if (hash) *hash = '\0';
-        if (r->buf[strspn(r->buf, " \t\r\f\v")]) return r->buf;
-    }
-    return NULL;
-}
-
-/* Parse up to max whole numbers (integers when ints) from s; returns how
- * many parsed before something that is not a number. */
-static int parse_numbers(const char *s, double *v, int max, bool ints)
-{
-    int n = 0;
-    while (n < max) {
-        char *e;
-        double x = ints ? (double)strtol(s, &e, 10) : strtod(s, &e);
-        if (e == s || (*e && !strchr(" \t\r\f\v", *e))) break;
-        v[n++] = x;
-        s = e;
-    }
-    return n;
-}
-
-static int off_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
-{
-    line_reader r = {data, data + size, 0, {0}};
-    const char *l = next_line(&r);
-    if (!l) return 0; /* assimp will say what is wrong */
-    l += strspn(l, " \t\r\f\v");
-    if (strncmp(l, "OFF", 3) != 0 || (l[3] && !strchr(" \t\r\f\v", l[3]))) return 0;
-    double cnt[3];
-    int n = parse_numbers(l + 3, cnt, 3, true);
-    if (n == 0) {
-        if (!(l = next_line(&r))) {
-            snprintf(err, errlen, "%s: ends after the OFF header, with no counts", path);
-            return -1;
-        }
-        n = parse_numbers(l, cnt, 3, true);
-    }
-    if (n < 2 || cnt[0] < 0 || cnt[1] < 0 || cnt[0] > UINT32_MAX || cnt[1] > UINT32_MAX) {
-        snprintf(err, errlen, "%s: line %u: expected the vertex and face counts", path, r.line);
-        return -1;
-    }
-    uint32_t nv = (uint32_t)cnt[0], nf = (uint32_t)cnt[1];
-    for (uint32_t v = 0; v < nv; v++) {
-        double xyz[3];
-        if (!(l = next_line(&r))) {
-            snprintf(err, errlen, "%s: ends after %u of %u vertices (truncated file?)", path, v, nv);
-            return -1;
-        }
-        if (parse_numbers(l, xyz, 3, false) < 3) {
-            snprintf(err, errlen, "%s: line %u: vertex %u needs 3 coordinates", path, r.line, v);
-            return -1;
-        }
-    }
-    for (uint32_t f = 0; f < nf; f++) {
-        double idx[11];
-        if (!(l = next_line(&r))) {
-            snprintf(err, errlen, "%s: ends after %u of %u faces (truncated file?)", path, f, nf);
-            return -1;
-        }
-        int got = parse_numbers(l, idx, 11, true);
-        if (got < 1 || idx[0] < 1) {
-            snprintf(err, errlen, "%s: line %u: face %u needs a vertex count of at least 1", path, r.line, f);
-            return -1;
-        }
-        if (idx[0] > 9) { /* assimp 5.2 drops such faces; fail like it logs */
-            snprintf(err, errlen, "%s: line %u: face %u has %g vertices; assimp's OFF reader takes at most 9", path, r.line, f, idx[0]);
-            return -1;
-        }
-        int k = (int)idx[0];
-        if (got < 1 + k) {
-            snprintf(err, errlen, "%s: line %u: face %u needs %d vertex indices (truncated file?)", path, r.line, f, k);
-            return -1;
-        }
-        for (int j = 1; j <= k; j++)
-            if (idx[j] < 0 || idx[j] >= nv) {
-                snprintf(err, errlen, "%s: line %u: face %u uses vertex %g of %u", path, r.line, f, idx[j], nv);
+            if (!scene_coord_ok(p.x) || !scene_coord_ok(p.y) || !scene_coord_ok(p.z)) {
+                snprintf(err, errlen, "%s: vertex %u of mesh %u (%g %g %g) is outside the scene range: coordinates must "
+                         "be " SCENE_COORD_RANGE, path, v, m, p.x, p.y, p.z);
                 return -1;
             }
+        }
     }
     return 0;
-}
-
-/* --- PLY pre-check ---
- * assimp's PLY reader loops forever on a header that ends before its
- * "end_header" line (a truncated file), so that line must be there. */
-static int ply_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
-{
-    line_reader r = {data, data + size, 0, {0}};
-    for (const char *l; (l = next_line(&r));) {
-        l += strspn(l, " \t");
-        if (strncmp(l, "end_header", 10) == 0 && (!l[10] || strchr(" \t\r", l[10]))) return 0;
-    }
-    snprintf(err, errlen, "%s: the PLY header has no end_header line (truncated file?)", path);
-    return -1;
 }
 
 /* --- assimp's file system: everything from memory ---
@@ -318,7 +202,12 @@ static struct aiFile *fs_open(struct aiFileIO *io, const char *name, const char 
             snprintf(path, sizeof path, "%s", name);
         else
             snprintf(path, sizeof path, "%s%s", fs->prefix, name[0] == '.' && name[1] == '/' ? name + 2 : name);
-        if (compressed_read(path, &m->owned, why, sizeof why) != 0) {
+        /* The name comes from the file's own text: only a regular file may
+         * be read (a "mtllib /dev/zero" would be read forever). */
+        char disk[8192];
+        struct stat st;
+        compressed_disk_file(path, disk, sizeof disk);
+        if (stat(disk, &st) != 0 || !S_ISREG(st.st_mode) || compressed_read(path, &m->owned, why, sizeof why) != 0) {
             free(f);
             free(m);
             return NULL; /* assimp reports the file it could not open */
@@ -370,8 +259,7 @@ static const struct aiScene *import(const file_data_t *f, const char *path, char
     }
     char ext[16];
     compressed_extension(f->name, ext, sizeof ext);
-    if (strcmp(ext, "off") == 0 && off_check(f->data, f->size, path, err, errlen) != 0) return NULL;
-    if (strcmp(ext, "ply") == 0 && ply_check(f->data, f->size, path, err, errlen) != 0) return NULL;
+    if (mesh_precheck(ext, f->data, f->size, path, err, errlen) != 0) return NULL;
 
     mem_fs fs = {f, f->name[0] ? f->name : "mesh", {0}};
     container_prefix(path, fs.prefix, sizeof fs.prefix);
@@ -416,8 +304,17 @@ scene_t *scene_load_mesh(const char *name, const char *path, char *err, size_t e
 {
     file_data_t f;
     if (compressed_read(path, &f, err, errlen) != 0) return NULL;
-    const struct aiScene *as = import(&f, path, err, errlen);
+    scene_t *s = scene_mesh_from_memory(name, path, f.name, f.data, f.size, err, errlen);
     compressed_free(&f);
+    return s;
+}
+
+scene_t *scene_mesh_from_memory(const char *name, const char *path, const char *file_name, const char *data,
+                                size_t size, char *err, size_t errlen)
+{
+    file_data_t f = {(char *)data, size, {0}};
+    snprintf(f.name, sizeof f.name, "%s", file_name);
+    const struct aiScene *as = import(&f, path, err, errlen);
     if (!as) return NULL;
 
     scene_t *s = scene_new(name);

@@ -28,6 +28,9 @@
  * the default lights. Cones with both radii negative ("inside visible")
  * are stored with the absolute radii and counted in scene_t.source. */
 scene_t *scene_load_nff(const char *name, const char *path, char *err, size_t errlen);
+/* The same from size bytes in memory, data[size] == '\0' (the tokenizer
+ * stops there); path names the file in messages. For the fuzzers (fuzz/). */
+scene_t *scene_parse_nff(const char *name, const char *path, const char *data, size_t size, char *err, size_t errlen);
 
 /* Write s as NFF: `b`, `v`, the `l` lines, then the primitives in order with
  * an `f` line whenever the material changes. Shine, T and ior, which

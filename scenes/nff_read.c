@@ -12,7 +12,9 @@
  * line "PATH:LINE: reason" naming the offending token's line, and garbage
  * never crashes or hangs it (counts are bounded and storage grows only with
  * what was actually read, so a huge declared count in a small file costs
- * nothing). */
+ * nothing). Coordinates and radii are checked against the ranges every
+ * scene lies in (scene.h) as they are read, so that message names the
+ * line too. */
 #include "nff.h"
 #include "compressed.h"
 
@@ -206,6 +208,23 @@ static bool read_vec3(nff_parser *ps, vec3 *out)
     return read_float(ps, &out->x) && read_float(ps, &out->y) && read_float(ps, &out->z);
 }
 
+/* Read one number of the geometry (view false) or of the view and lights
+ * (view true) within the ranges every scene lies in (scene.h): checked
+ * here, where the line is known, rather than only in scene_finish. */
+static bool read_coord(nff_parser *ps, bool view, float *out)
+{
+    if (!read_float(ps, out)) return false;
+    if (view ? scene_view_coord_ok(*out) : scene_coord_ok(*out)) return true;
+    char w[96], t[40];
+    return fail(ps, ps->lx.tok_line, "%s is outside the %s range %s: numbers must be %s", lex_show(&ps->lx, t, sizeof t),
+                view ? "view" : "scene", where(ps, w, sizeof w), view ? SCENE_VIEW_RANGE : SCENE_COORD_RANGE);
+}
+
+static bool read_point(nff_parser *ps, bool view, vec3 *out)
+{
+    return read_coord(ps, view, &out->x) && read_coord(ps, view, &out->y) && read_coord(ps, view, &out->z);
+}
+
 /* Read a decimal integer in [lo, hi] (digits only: a count or a size). */
 static bool read_uint(nff_parser *ps, const char *what, unsigned long lo, unsigned long hi, unsigned long *out)
 {
@@ -258,13 +277,13 @@ static bool parse_view(nff_parser *ps)
     camera_t *c = &ps->s->camera;
     unsigned long w, h;
     enter(ps, "v", 0);
-    if (!expect_sub(ps, "v from", vline) || !read_vec3(ps, &c->from)) return false;
-    if (!expect_sub(ps, "v at", vline) || !read_vec3(ps, &c->at)) return false;
-    if (!expect_sub(ps, "v up", vline) || !read_vec3(ps, &c->up)) return false;
+    if (!expect_sub(ps, "v from", vline) || !read_point(ps, true, &c->from)) return false;
+    if (!expect_sub(ps, "v at", vline) || !read_point(ps, true, &c->at)) return false;
+    if (!expect_sub(ps, "v up", vline) || !read_point(ps, true, &c->up)) return false;
     if (!expect_sub(ps, "v angle", vline) || !read_float(ps, &c->fov_deg)) return false;
     if (!(c->fov_deg > 0.0f && c->fov_deg < 180.0f))
         return fail(ps, ps->lx.tok_line, "view angle %g is not in (0, 180) degrees", (double)c->fov_deg);
-    if (!expect_sub(ps, "v hither", vline) || !read_float(ps, &c->hither)) return false;
+    if (!expect_sub(ps, "v hither", vline) || !read_coord(ps, true, &c->hither)) return false;
     if (c->hither < 0.0f) return fail(ps, ps->lx.tok_line, "negative hither %g", (double)c->hither);
     if (!expect_sub(ps, "v resolution", vline) || !read_uint(ps, "a width", 1, NFF_MAX_RESOLUTION, &w) ||
         !read_uint(ps, "a height", 1, NFF_MAX_RESOLUTION, &h))
@@ -293,7 +312,7 @@ static bool parse_light(nff_parser *ps)
 {
     vec3 pos, colour;
     enter(ps, "l", 0);
-    if (!read_vec3(ps, &pos)) return false;
+    if (!read_point(ps, true, &pos)) return false;
     nff_lexer ahead = ps->lx;
     float x;
     if (lex_next(&ahead) && token_number(&ahead, &x) && !read_vec3(ps, &colour)) return false;
@@ -356,7 +375,9 @@ static bool parse_cone(nff_parser *ps)
     vec3 b, a;
     float rb, ra;
     enter(ps, "c", 0);
-    if (!read_vec3(ps, &b) || !read_float(ps, &rb) || !read_vec3(ps, &a) || !read_float(ps, &ra)) return false;
+    if (!read_point(ps, false, &b) || !read_coord(ps, false, &rb) || !read_point(ps, false, &a) ||
+        !read_coord(ps, false, &ra))
+        return false;
     if (rb < 0.0f || ra < 0.0f) {
         if (rb > 0.0f || ra > 0.0f)
             return fail(ps, line, "cone radii %g and %g have mixed signs (both negative means inside visible)",
@@ -367,6 +388,9 @@ static bool parse_cone(nff_parser *ps)
     }
     if (rb == 0.0f && ra == 0.0f) return fail(ps, line, "cone with both radii zero");
     if (b.x == a.x && b.y == a.y && b.z == a.z) return fail(ps, line, "cone base and apex are the same point");
+    cone_t cone = {b, rb, a, ra};
+    const char *why = scene_cone_problem(cone);
+    if (why) return fail(ps, line, "cone %s", why);
     if (!room_for(ps, line, 0)) return false;
     prims_add_cone(&ps->s->prims, b, rb, a, ra);
     return true;
@@ -380,8 +404,10 @@ static bool parse_sphere(nff_parser *ps)
     vec3 c;
     float r;
     enter(ps, "s", 0);
-    if (!read_vec3(ps, &c) || !read_float(ps, &r)) return false;
+    if (!read_point(ps, false, &c) || !read_coord(ps, false, &r)) return false;
     if (!(r > 0.0f)) return fail(ps, line, "sphere radius %g is not positive", (double)r);
+    if (!scene_ball_ok(c, r))
+        return fail(ps, line, "sphere reaches outside the scene range: centre +- radius must be " SCENE_COORD_RANGE);
     if (!room_for(ps, line, 0)) return false;
     prims_add_sphere(&ps->s->prims, c, r);
     return true;
@@ -440,7 +466,7 @@ static bool parse_polygon(nff_parser *ps, bool patch)
     for (uint32_t i = 0; i < n; i++) {
         vec3 v, normal;
         ps->entity_vertex = i + 1;
-        if (!read_vec3(ps, &v) || (patch && !read_vec3(ps, &normal))) return false;
+        if (!read_point(ps, false, &v) || (patch && !read_vec3(ps, &normal))) return false;
         push_point(ps, v);
     }
     if (n > 3) merge_duplicates(ps);
@@ -491,9 +517,16 @@ scene_t *scene_load_nff(const char *name, const char *path, char *err, size_t er
 {
     file_data_t f;
     if (compressed_read(path, &f, err, errlen) != 0) return NULL;
+    scene_t *s = scene_parse_nff(name, path, f.data, f.size, err, errlen);
+    compressed_free(&f);
+    return s;
+}
+
+scene_t *scene_parse_nff(const char *name, const char *path, const char *data, size_t size, char *err, size_t errlen)
+{
     nff_parser ps;
     memset(&ps, 0, sizeof ps);
-    lex_init(&ps.lx, f.data, f.size);
+    lex_init(&ps.lx, data, size);
     ps.path = path;
     ps.err = err;
     ps.errlen = errlen;
@@ -502,7 +535,6 @@ scene_t *scene_load_nff(const char *name, const char *path, char *err, size_t er
     bool ok = parse_file(&ps);
     free(ps.pts);
     free(ps.idx);
-    compressed_free(&f);
     scene_t *s = ps.s;
     if (!ok) {
         scene_free(s);

@@ -140,11 +140,17 @@ int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen)
         return -1;
     }
     char why[400];
-    if (prims_finish(&s->prims, why, sizeof why) != 0) {
+    /* The ranges first (scene.h says why they are what they are): the
+     * finishing below already does float arithmetic on the geometry. */
+    if (scene_check_geometry(s, why, sizeof why) != 0 || prims_finish(&s->prims, why, sizeof why) != 0) {
         snprintf(err, errlen, "%s: %s", what(s), why);
         return -1;
     }
     s->bounds = s->prims.box;
+    if (!isfinite(box_diagonal(s->bounds))) { /* cannot happen within the ranges; a float check costs nothing */
+        snprintf(err, errlen, "%s: the bounding box's diagonal is not finite", what(s));
+        return -1;
+    }
 
     scene_impl *si = (scene_impl *)s;
     if (si->material_upto < s->prims.count) {
@@ -152,6 +158,13 @@ int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen)
         scene_set_material_upto(s, scene_add_material(s, grey));
     }
     if (!has_camera) default_camera(s);
+    snprintf(s->view, sizeof s->view, "%s", has_camera ? "source" : "automatic");
     if (s->nlights == 0) default_lights(s);
+    /* The source's view and lights, and also the defaults: within the
+     * geometry's range they always fit, but the check is where rays start. */
+    if (scene_check_view(&s->camera, s->lights, s->nlights, why, sizeof why) != 0) {
+        snprintf(err, errlen, "%s: %s", what(s), why);
+        return -1;
+    }
     return 0;
 }

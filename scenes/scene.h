@@ -42,9 +42,12 @@ typedef struct scene {
     uint16_t *prim_material; /* [prims.count] index into materials */
     vec3 background;
     box3 bounds;         /* == prims.box */
+    char view[256];      /* where the camera came from: "automatic" (scene_finish's), "source" (the
+                          * file's or generator's own), else the views applied, '@'-joined ("nave",
+                          * "nave@eye=...") */
 } scene_t;
 
-/* Make a scene from a name:
+/* Make a scene from a name (scene_load.c):
  *   spd:balls:SIZE          SPD sphereflake, true spheres (SIZE 1..7, default 4)
  *   spd:balls:SIZE:t[RES]   the same tessellated into triangles (RES default 3)
  *   NAME                    a catalogue mesh (see scene_catalogue_print), e.g. bunny
@@ -52,13 +55,154 @@ typedef struct scene {
  *                           glTF, ...), optionally compressed (.gz, .xz, ...),
  *                           or ARCHIVE#MEMBER for one file in a tarball (see
  *                           compressed.h); "file:PATH" forces the file reading.
- * Returns the scene, or NULL with a one-line reason in err that names the
- * file (and line where the loader knows it). */
+ *   any of these @VIEW      then a view: a catalogue scene's named view
+ *                           (sibenik@nave) or a view spec (scene_view_parse:
+ *                           bunny@eye=1,2,3;fov=30); several apply in order
+ *                           (sibenik@nave@fov=60). The views are the '@' parts
+ *                           after the last '/', unless the whole name is a file.
+ * A catalogue scene starts from its default view when it has one (sibenik
+ * and sponza look from inside). Returns the scene, named as given, or NULL
+ * with a one-line reason in err that names the file (and line where the
+ * loader knows it), or the view and the known view names. */
 scene_t *scene_load(const char *name, char *err, size_t errlen);
 void scene_free(scene_t *s);
+/* What scene_load(name) would refuse without reading any file: a bad or
+ * unknown view, a catalogue mesh that is absent. Returns 0, or -1 with
+ * scene_load's one-line reason; so a command can refuse before its work. */
+int scene_check(const char *name, char *err, size_t errlen);
 
-/* Print the catalogue: one line per name, with its source and summary. */
+/* Whether name (views and all) is a generated scene scene_load makes
+ * without reading any file (spd:..., gen:room...), with the primitives it
+ * would have in *prims, counted without generating it (0 for gen:room's
+ * fixed hall of under 100). For callers that bound their work before
+ * loading: the fuzzers, a resource estimate. */
+bool scene_generated(const char *name, uint64_t *prims);
+
+/* Print the catalogue: one line per name, with its source and summary,
+ * marking files that are not installed or not on the scene path, then each
+ * scene's named views. */
 void scene_catalogue_print(FILE *out);
+
+/* Whether catalogue scene `name` (NAME or NAME@VIEW) can be loaded here:
+ * its file is present (not read) and the view, if any, is known. True with
+ * the file's path in where; false with the one-line reason scene_load would
+ * give (the file, where it was looked for, where to get it). For callers
+ * that fall back to a generated stand-in on a machine without the scene. */
+bool scene_catalogue_available(const char *name, char *where, size_t len);
+
+/* --- the scene path (scene_path.c) ---
+ * Meshes from public repositories are not part of the project (only
+ * generated data and what Debian ships is): they are found by file name in
+ * the folders of $ACCELBENCH_SCENES (colon-separated), then in
+ * $ACCELBENCH_SHARED_SCENES, which defaults to ../shared/scenes beside the
+ * checkout, where developers and CI have them (set it empty to search only
+ * $ACCELBENCH_SCENES, as on a machine without them). */
+
+/* Find `file` on the scene path: true with its full path in out. where
+ * always gets the folders searched, ", "-separated, in order. */
+bool scene_path_find(const char *file, char *out, size_t outlen, char *where, size_t wherelen);
+
+/* --- views (view.c) ---
+ * A view moves the camera and, for a named view of a closed interior whose
+ * default lights hang outside it, the lights. A view spec gives any of
+ * eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG (each at most once, in any order);
+ * what it leaves out stays as the scene has it. */
+#define SCENE_VIEW_EYE 1u
+#define SCENE_VIEW_AT 2u
+#define SCENE_VIEW_UP 4u
+#define SCENE_VIEW_FOV 8u
+#define SCENE_VIEW_MAX_LIGHTS 4
+
+typedef struct {
+    unsigned given;   /* SCENE_VIEW_* bits: the parts set */
+    vec3 eye, at, up;
+    float fov_deg;    /* full vertical angle, as camera_t */
+    uint32_t nlights; /* > 0: these replace the scene's lights */
+    vec3 lights[SCENE_VIEW_MAX_LIGHTS];
+} scene_view;
+
+/* Parse a view spec strictly: numbers whole and finite, exactly three per
+ * vector, fov in (0, 180), no unknown, repeated or empty part. Returns 0, or
+ * -1 with a one-line reason naming the bad part in err. */
+int scene_view_parse(const char *spec, scene_view *v, char *err, size_t errlen);
+/* Apply v to s and append label to s->view. Fails (-1, err) when the result
+ * is no camera: eye at `at`, up zero or along the view direction. */
+int scene_view_apply(scene_t *s, const scene_view *v, const char *label, char *err, size_t errlen);
+
+/* --- the ranges every scene lies in (scene_range.c) ---
+ * Tracing works in single precision, so scene_finish refuses, with exit 2
+ * and a line naming the culprit, any scene whose numbers would overflow a
+ * float formula of tracing; nothing downstream (no accelerator, workload or
+ * renderer) needs a check of its own. Loaders that know the file line
+ * check the same bounds as they read (NFF, OBJ and OFF), so that their
+ * message names the line.
+ *
+ * SCENE_COORD_MAX = 2^30 (1.07e9) for every coordinate of the geometry:
+ * vertices, and the boxes of spheres and cones (centre +- radius, so radii
+ * are at most 2^30 too). Why 2^30: the highest power of a length that a
+ * float formula of tracing forms is the fourth, in the float length of a
+ * triangle's edge cross product (prim_normal, from which every secondary
+ * ray leaves a triangle, hence the verify and render normals too): with
+ * edge components up to 2 * 2^30, the cross product's components are at
+ * most 2 (2^31)^2 = 2^63 and its squared length 3 * 2^126 < FLT_MAX
+ * (2^128). Everything else is of lower degree and so keeps a wide margin:
+ * the box diagonal (< 2^32), the watertight triangle test's hit distance
+ * numerator (a cubic, < 2^110 for origins within SCENE_VIEW_MAX), Embree's
+ * own cubic of the same kind, grid cell arithmetic (volume < 2^93), SAH
+ * areas, sphere quadrics (< 2^80). A mesh in millimetres a thousand
+ * kilometres across still fits.
+ *
+ * Cones also need an axis a float has a direction for: |apex - base| > 0
+ * as the kernel computes it, and a slope |apex_radius - base_radius| /
+ * |apex - base| of at most SCENE_CONE_SLOPE_MAX = 2^24 (flatter than 6e-8
+ * rad from a disk), since the kernel squares rb + slope * h for heights h
+ * up to 2^37: (2^24 2^37)^2 = 2^122 stays finite. Sphere and cone radii
+ * may be as small as a float allows: a radius too small to square only
+ * misses.
+ *
+ * SCENE_VIEW_MAX = 2^36 (6.9e10) for the points where rays start or end
+ * outside the geometry: the camera's eye and look-at point, the lights,
+ * the hither distance (primary rays' tnear) and the components of the up
+ * vector. 2^36 holds the automatic camera and lights of any scene within
+ * SCENE_COORD_MAX (at most 2^34 from the origin), and keeps every
+ * workload's ray origin and the t where it meets the geometry (< 2^37)
+ * 2^23 below RAY_COORD_MAX (2^60, Embree's limit less a margin; prims/ray.h).
+ * The view direction (at - eye) and the up vector must also be at least
+ * SCENE_VIEW_MIN_LEN = 2^-40 long and 1e-6 rad apart, so that the float
+ * camera frame normalises without underflow (a cross product of at least
+ * 2^-60, squared 2^-120, above the smallest normal float 2^-126). */
+#define SCENE_COORD_MAX 0x1p30f
+#define SCENE_CONE_SLOPE_MAX 0x1p24f
+#define SCENE_VIEW_MAX 0x1p36f
+#define SCENE_VIEW_MIN_LEN 0x1p-40f
+/* The bounds as messages print them. */
+#define SCENE_COORD_RANGE "within +-2^30 (1.07e9)"
+#define SCENE_VIEW_RANGE "within +-2^36 (6.87e10)"
+
+/* Whether x is a coordinate the geometry may have (NaN and inf are not). */
+static inline bool scene_coord_ok(float x) { return fabsf(x) <= SCENE_COORD_MAX; }
+/* Whether x may be a coordinate of the camera or a light. */
+static inline bool scene_view_coord_ok(float x) { return fabsf(x) <= SCENE_VIEW_MAX; }
+/* Whether the box of a sphere or a cone's end, centre +- r, is in range. */
+static inline bool scene_ball_ok(vec3 c, float r)
+{
+    return scene_coord_ok(r) && scene_coord_ok(c.x - r) && scene_coord_ok(c.x + r) && scene_coord_ok(c.y - r) &&
+           scene_coord_ok(c.y + r) && scene_coord_ok(c.z - r) && scene_coord_ok(c.z + r);
+}
+
+/* What is wrong with a cone for these ranges ("reaches outside the scene
+ * range ...", "is flatter than ..."), or NULL. */
+const char *scene_cone_problem(cone_t c);
+/* The geometry's ranges (above), before prims_finish: every vertex (even
+ * one no primitive uses), every sphere and cone. Returns 0, or -1 with
+ * "vertex 3 (0 3e+38 0) ..." (the store's index, and the primitive's id)
+ * in err. */
+int scene_check_geometry(const scene_t *s, char *err, size_t errlen);
+/* A camera and lights: finite and within SCENE_VIEW_MAX, eye != at, an up
+ * vector the frame can use, 0 < fov < 180, 0 <= hither <= SCENE_VIEW_MAX.
+ * Returns 0, or -1 with a reason naming the part ("light 2 (...) is
+ * outside the view range ..."). scene_finish and scene_view_apply call it. */
+int scene_check_view(const camera_t *c, const vec3 *lights, uint32_t nlights, char *err, size_t errlen);
 
 /* Helpers for scene makers (loaders and generators). A scene_t comes only
  * from scene_new() (it carries private bookkeeping behind the public
@@ -70,8 +214,9 @@ uint16_t scene_add_material(scene_t *s, material_t m);
 void scene_add_light(scene_t *s, vec3 p);
 /* Record the material of every primitive added since the last call. */
 void scene_set_material_upto(scene_t *s, uint16_t material);
-/* Finish: prims_finish, bounds, and defaults for what the source did not
- * give. has_camera false: a camera looking at the bounds centre from the
+/* Finish: the geometry's ranges (scene_check_geometry), prims_finish,
+ * bounds, defaults for what the source did not give, and the view's
+ * ranges (scene_check_view). has_camera false: a camera looking at the bounds centre from the
  * (1, 0.6, 0.8) direction with y up (z up, looking from (1, 0.8, 0.6), when
  * the bounds are thinnest in y, as for z-up models), far enough that the bounding sphere
  * fills the 45 degree view, 512x512. No lights: two point lights above and
@@ -87,6 +232,12 @@ int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen);
  * (see compressed.h). Points and lines are skipped and counted in
  * scene_t.source; degenerate triangles are kept. */
 scene_t *scene_load_mesh(const char *name, const char *path, char *err, size_t errlen);
+/* The same from bytes already in memory (size of them, data[size] ==
+ * '\0'): file_name's extension ("x.obj") tells the format, path names the
+ * file in messages and is where referenced files (.mtl, .bin) are looked
+ * for beside. For the fuzzers (fuzz/), and any caller with the bytes. */
+scene_t *scene_mesh_from_memory(const char *name, const char *path, const char *file_name, const char *data,
+                                size_t size, char *err, size_t errlen);
 /* SPD balls (sphereflake), size 1..7; tess_res 0 for true spheres, else
  * 1..64 for cube-sphere triangles (12*tess_res^2 per sphere). */
 scene_t *scene_spd_balls(const char *name, int size, int tess_res, char *err, size_t errlen);

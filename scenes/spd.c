@@ -409,6 +409,13 @@ uint64_t spd_census_prims(const spd_census *n, int tess_res)
     return n->spheres * 12 * r * r + n->cones * 8 * r + n->polygon_tris;
 }
 
+uint64_t spd_prims(const spd_generator *g, int size, int tess_res)
+{
+    spd_census n;
+    g->census(size, &n);
+    return spd_census_prims(&n, tess_res && g->forced_res ? g->forced_res : tess_res);
+}
+
 scene_t *scene_spd(const char *name, const char *generator, int size, int tess_res, char *err, size_t errlen)
 {
     const spd_generator *g = spd_generator_find(generator);

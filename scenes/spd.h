@@ -126,6 +126,9 @@ const spd_generator *spd_generator_find(const char *name);
 
 /* Primitive count of a census in a mode (tess_res 0: true primitives). */
 uint64_t spd_census_prims(const spd_census *n, int tess_res);
+/* What scene_spd(g, size, tess_res) would make, counted without making it
+ * (the generator's forced resolution applied). */
+uint64_t spd_prims(const spd_generator *g, int size, int tess_res);
 
 /* The generators, one file each (scenes/spd_NAME.c). */
 #define SPD_GENERATOR(name)                        \

@@ -15,8 +15,9 @@ to it (or in --out):
                       one line per image
 
 An image's time is the sum of its rows' trace_ms over workloads (primary +
-reflection), as in the printed tables. A table missing from the CSV is
-skipped. Exit status 2 for a missing file or missing columns.
+reflection), as in the printed tables. Woo's numbers come from
+data/woo92_figures.csv, which accelbench's report reads too. A table missing
+from the CSV is skipped. Exit status 2 for a missing file or missing columns.
 """
 import os
 import sys
@@ -36,12 +37,37 @@ import plot as common  # noqa: E402
 common.PROG = PROG
 fail, num, save = common.fail, common.num, common.save
 
-# Woo 1992, in seconds (the paper's tables), for the side-by-side panels.
-WOO_T2 = {"Spheres": (475, 403), "Room": (2240, 2041), "Lamp": (1544, 1407)}
-WOO_T3_TRI = (2.2, 0.9, 0.9)
-WOO_T3_NEW = (8.9, 9.5, 12.2)
+# Woo's published figures: the one data file the C report reads too.
+FIGURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "data", "woo92_figures.csv")
 ABL_ORDER = ("old", "+woo90", "+mtf=hit", "+mtf=almost", "+dynbox", "+voxbox", "+beta=0.75",
              "+tclip", "+eyeorigin", "+rayid=twopass")
+
+
+def figure_value(text):
+    """A figure as printed: 'm:ss' (or 'h:mm:ss') as seconds, else a float."""
+    value = 0.0
+    for part in text.split(":"):
+        value = 60 * value + float(part)
+    return value
+
+
+def load_figures(path=FIGURES):
+    """{table: {row: {quantity: value}}} from the figures file, rows in file order."""
+    rows = common.load_rows(path, ("table", "row", "quantity", "value"))
+    figs = {}
+    for r in rows:
+        figs.setdefault(r["table"], {}).setdefault(r["row"], {})[r["quantity"]] = r["value"]
+    return figs
+
+
+def woo_table2(figs):
+    """{image: (old seconds, new seconds)} of Woo's Table 2, in his row order."""
+    return {image: (figure_value(q["old_time"]), figure_value(q["new_time"])) for image, q in figs["table2"].items()}
+
+
+def woo_table3(figs, quantity):
+    """One %Improve column of Woo's Table 3 (tri_improve or new_improve), in his row order."""
+    return tuple(figure_value(q[quantity]) for q in figs["table3"].values())
 
 
 class Image:
@@ -122,17 +148,18 @@ def plot_table1(rows, path, written):
     save(fig, path, written)
 
 
-def plot_table2(rows, path, written):
+def plot_table2(rows, figs, path, written):
     """New / old time per image, ours next to Woo's."""
     im = images(rows, "table2")
     scenes = list(dict.fromkeys(s for (_, s) in im))
     if not scenes:
         return
-    names = list(WOO_T2)
+    woo_t2 = woo_table2(figs)
+    names = list(woo_t2)
     fig, ax = plt.subplots(figsize=(8, 4.8))
     xs = range(len(scenes))
     ours = [im[("new", s)].ms / im[("old", s)].ms if ("new", s) in im and ("old", s) in im else 0 for s in scenes]
-    woo = [WOO_T2[names[i]][1] / WOO_T2[names[i]][0] if i < len(names) else 0 for i in xs]
+    woo = [woo_t2[names[i]][1] / woo_t2[names[i]][0] if i < len(names) else 0 for i in xs]
     b1 = ax.bar([x - 0.2 for x in xs], ours, 0.4, color="C0", label="ours: new / old")
     b2 = ax.bar([x + 0.2 for x in xs], woo, 0.4, color="C7", label="Woo 1992: new / old")
     for bars in (b1, b2):
@@ -150,7 +177,7 @@ def plot_table2(rows, path, written):
     save(fig, path, written)
 
 
-def plot_table3(rows, path, written):
+def plot_table3(rows, figs, path, written):
     """Old/tri/new time vs spp, and % improvement vs Woo's."""
     im = images(rows, "table3")
     if not im:
@@ -171,7 +198,7 @@ def plot_table3(rows, path, written):
         if kind != "old":
             imp = [100 * (series["old"][s].ms - p.ms) / series["old"][s].ms for s, p in zip(spps, pts)]
             axes[1].plot(spps, imp, marker="o", color=f"C{i}", label=f"ours: {kind}")
-            woo = WOO_T3_TRI if kind == "tri" else WOO_T3_NEW
+            woo = woo_table3(figs, f"{kind}_improve")
             axes[1].plot(spps[:len(woo)], woo[:len(spps)], marker="x", ls="--", color=f"C{i}", alpha=0.6,
                          label=f"Woo 1992: {kind}")
     scene = next(iter(im.values())).scene
@@ -254,10 +281,11 @@ def main(argv=None):
     rows, out = common.rows_and_folder(args, REQUIRED)
     if not rows:
         return 0
+    figs = load_figures()
     written = []
     plot_table1(rows, os.path.join(out, "woo92_table1.png"), written)
-    plot_table2(rows, os.path.join(out, "woo92_table2.png"), written)
-    plot_table3(rows, os.path.join(out, "woo92_table3.png"), written)
+    plot_table2(rows, figs, os.path.join(out, "woo92_table2.png"), written)
+    plot_table3(rows, figs, os.path.join(out, "woo92_table3.png"), written)
     plot_table4(rows, os.path.join(out, "woo92_table4.png"), written)
     plot_ablation(rows, os.path.join(out, "woo92_ablation.png"), written)
     if not args.quiet:

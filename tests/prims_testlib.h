@@ -43,4 +43,25 @@ static inline box3 box(vec3 lo, vec3 hi)
     return b;
 }
 
+/* n groups around random centres in [-spread, spread]^3, each a triangle
+ * of size about 1 plus, in turn, a sphere, a cone, a parallelogram polygon
+ * or nothing: every primitive kind, overlapping. Call prims_finish after. */
+static inline void rnd_soup(prims_t *p, int n, float spread)
+{
+    for (int i = 0; i < n; i++) {
+        vec3 c = rnd_v3(-spread, spread);
+        uint32_t v[4];
+        for (int k = 0; k < 3; k++) v[k] = prims_add_vertex(p, v3_add(c, rnd_v3(-1.0f, 1.0f)));
+        prims_add_triangle(p, v[0], v[1], v[2]);
+        if (i % 4 == 0) prims_add_sphere(p, c, rnd(0.1f, 1.0f));
+        if (i % 4 == 1) prims_add_cone(p, c, rnd(0.1f, 0.8f), v3_add(c, rnd_v3(-2.0f, 2.0f)), rnd(0.0f, 0.8f));
+        if (i % 4 == 2) {
+            vec3 u = rnd_v3(-1.0f, 1.0f), w = rnd_v3(-1.0f, 1.0f);
+            vec3 pts[4] = {c, v3_add(c, u), v3_add(v3_add(c, u), w), v3_add(c, w)};
+            for (int k = 0; k < 4; k++) v[k] = prims_add_vertex(p, pts[k]);
+            prims_add_polygon(p, v, 4);
+        }
+    }
+}
+
 #endif

@@ -10,11 +10,9 @@ static accel *build_kernel(const scene_t *s, const char *kernel, char *err, size
     const struct accel_ops *ops = accel_find("cgal-aabb");
     CHECK_MSG(ops != NULL, "cgal-aabb is not registered");
     if (!ops) exit(2);
-    accel_params p;
-    params_defaults(&p, ops->params);
-    p.threads = 2;
-    if (params_set(&p, "kernel", kernel, err, errlen)) return NULL;
-    return accel_build(ops, s, &p, err, errlen);
+    char settings[64];
+    snprintf(settings, sizeof settings, "kernel=%s", kernel);
+    return test_build_with(ops, s, settings, 2, err, errlen);
 }
 
 static void check_scene(const char *name, int res)

@@ -21,21 +21,7 @@ static accel *build_cfg(const char *name, const scene_t *s, const char *cfg, cha
         snprintf(err, errlen, "no accelerator %s", name);
         return NULL;
     }
-    accel_params p;
-    params_defaults(&p, ops->params);
-    p.threads = 1;
-    char buf[512];
-    snprintf(buf, sizeof buf, "%s", cfg);
-    for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
-        char *eq = strchr(tok, '=');
-        if (!eq) {
-            snprintf(err, errlen, "bad setting %s", tok);
-            return NULL;
-        }
-        *eq = 0;
-        if (params_set(&p, tok, eq + 1, err, errlen)) return NULL;
-    }
-    return accel_build(ops, s, &p, err, errlen);
+    return test_build_with(ops, s, cfg, 1, err, errlen);
 }
 
 static accel *must_build(const char *name, const scene_t *s, const char *cfg)

@@ -183,7 +183,7 @@ static scene_t *build_mixed_scene(void)
 {
     scene_t *s = scene_new("mixed");
     prims_t *p = &s->prims;
-    const float odd[] = {0.1f, 1.0f / 3.0f, -123456.789f, 1e-7f, 3.4e37f, -0.0f, 1e-40f /* denormal */, 2.7182817f};
+    const float odd[] = {0.1f, 1.0f / 3.0f, -123456.789f, 1e-7f, 9.8765432e8f /* near SCENE_COORD_MAX */, -0.0f, 1e-40f /* denormal */, 2.7182817f};
     uint32_t v[8];
     for (int i = 0; i < 8; i++) v[i] = prims_add_vertex(p, v3(odd[i], odd[(i + 3) % 8], (float)i * 0.7f));
     prims_add_triangle(p, v[0], v[1], v[2]);

@@ -4,7 +4,9 @@
  * coordinates derived by hand from its rules; mesh loading through assimp
  * (a catalogue mesh, OBJ and glTF files written here, gzipped and inside
  * a tarball);
- * and the one-line errors for bad input, which must name the file. */
+ * and the one-line errors for bad input, which must name the file; the
+ * scene path (repository meshes found by file name, the message when one
+ * is absent), named views and view specs (NAME@VIEW, --view's parser). */
 #include "../scenes/scene.h"
 #include "check.h"
 
@@ -367,6 +369,175 @@ static void test_errors(void)
     expect_error(TMP "/badindex.obj", TMP "/badindex.obj: assimp:");
 }
 
+/* --- the scene path and views --- */
+
+#define SP TMP "/path"
+
+static void test_scene_path(void)
+{
+    /* A one-triangle stand-in for Sibenik in the second folder of the path
+     * and another for Sponza in the first: the path is searched before
+     * ../shared/scenes, and in order. */
+    CHECK(system("mkdir -p " SP "/a " SP "/b " SP "/empty && "
+                 "printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' | xz -c > " SP "/b/sibenik.obj.xz && "
+                 "printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n' | xz -c > " SP "/a/sponza.obj.xz && "
+                 "cp " SP "/a/sponza.obj.xz " SP "/b/") == 0);
+    /* The shared folder as this run has it (the environment may move it). */
+    char shared[4096];
+    const char *env_shared = getenv("ACCELBENCH_SHARED_SCENES");
+    snprintf(shared, sizeof shared, "%s", env_shared ? env_shared : "/../shared/scenes");
+    setenv("ACCELBENCH_SCENES", SP "/nothere::" SP "/a:" SP "/b", 1);
+    char path[4096], where[4096];
+    CHECK(scene_path_find("sibenik.obj.xz", path, sizeof path, where, sizeof where));
+    CHECK_MSG(!strcmp(path, SP "/b/sibenik.obj.xz"), "found %s", path);
+    CHECK_MSG(!strcmp(where, SP "/nothere, " SP "/a, " SP "/b"), "looked in '%s'", where);
+    CHECK(scene_path_find("sponza.obj.xz", path, sizeof path, where, sizeof where));
+    CHECK(!strcmp(path, SP "/a/sponza.obj.xz"));
+    /* Not in the user's folders: the shared folder beside the checkout is last. */
+    CHECK(!scene_path_find("nosuch.obj.xz", path, sizeof path, where, sizeof where));
+    CHECK_MSG(strstr(where, SP "/b, ") && strstr(where, shared), "looked in '%s'", where);
+
+    scene_t *s = scene_load("sibenik", err, sizeof err);
+    CHECK_MSG(s && s->prims.ntris == 1, "sibenik from the path: %s", err);
+    if (s) CHECK(strcmp(s->source, SP "/b/sibenik.obj.xz") == 0);
+    scene_free(s);
+    CHECK(scene_catalogue_available("sibenik@nave", where, sizeof where) && !strcmp(where, SP "/b/sibenik.obj.xz"));
+    CHECK(scene_catalogue_available("bunny", where, sizeof where));
+    CHECK(!scene_catalogue_available("gen:room", where, sizeof where) && strstr(where, "not a catalogue scene"));
+    CHECK(!scene_catalogue_available("sibenik@roof", where, sizeof where) && strstr(where, "unknown view 'roof'"));
+
+    /* A machine without the meshes: the error names the file, every folder
+     * searched, and the public repository and path to get it from. */
+    setenv("ACCELBENCH_SCENES", SP "/empty", 1);
+    setenv("ACCELBENCH_SHARED_SCENES", "", 1);
+    expect_error("dragon100k", "scene 'dragon100k': dragon100k.obj.xz is not on the scene path (looked in " SP "/empty); get it from");
+    expect_error("dragon100k", "github.com/nwtnni/photon, file models/dragon.obj");
+    expect_error("sibenik@nave", "github.com/taqu/BoundingVolumeHierarchy, file sibenik.zip");
+    expect_error("sponza", "github.com/jan-van-bergen/GPU-Raytracer, folder Data/Sponza/models");
+    CHECK(!scene_catalogue_available("sibenik", where, sizeof where) && strstr(where, "sibenik.obj.xz is not on the scene path"));
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    scene_catalogue_print(m);
+    fclose(m);
+    CHECK_MSG(strstr(buf, "\nsibenik          sibenik.obj.xz  [scene path, absent: from github.com/taqu") != NULL, "%s", buf);
+    free(buf);
+    /* The shared folder may be moved too. */
+    setenv("ACCELBENCH_SCENES", "", 1);
+    setenv("ACCELBENCH_SHARED_SCENES", SP "/a", 1);
+    CHECK(scene_path_find("sponza.obj.xz", path, sizeof path, where, sizeof where) && !strcmp(where, SP "/a"));
+    if (env_shared)
+        setenv("ACCELBENCH_SHARED_SCENES", shared, 1);
+    else
+        unsetenv("ACCELBENCH_SHARED_SCENES");
+    setenv("ACCELBENCH_SCENES", SP "/a:" SP "/b", 1);
+}
+
+static bool same_vec(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+/* Named views on the stand-ins of test_scene_path (ACCELBENCH_SCENES still
+ * names them): the values are the catalogue's. */
+static void test_named_views(void)
+{
+    scene_t *s = scene_load("sibenik@nave", err, sizeof err);
+    CHECK_MSG(s != NULL, "sibenik@nave: %s", err);
+    if (s) {
+        CHECK(same_vec(s->camera.from, v3(-18, -10, 0)) && same_vec(s->camera.at, v3(0, -11, 0)));
+        CHECK(same_vec(s->camera.up, v3(0, 1, 0)) && s->camera.fov_deg == 45.0f);
+        CHECK(s->nlights == 2 && same_vec(s->lights[0], v3(-6, -4, 0)) && same_vec(s->lights[1], v3(6, -3, 2)));
+        CHECK(!strcmp(s->name, "sibenik@nave") && !strcmp(s->view, "nave"));
+    }
+    scene_free(s);
+    /* The default view of sibenik is the nave: inside, never the roof. */
+    s = scene_load("sibenik", err, sizeof err);
+    if (s) CHECK(same_vec(s->camera.from, v3(-18, -10, 0)) && s->nlights == 2 && !strcmp(s->view, "nave"));
+    scene_free(s);
+    s = scene_load("sponza@courtyard", err, sizeof err);
+    CHECK_MSG(s != NULL, "sponza@courtyard: %s", err);
+    if (s) {
+        CHECK(same_vec(s->camera.from, v3(120, 18, -2)) && same_vec(s->camera.at, v3(-100, 30, -2)));
+        CHECK(same_vec(s->camera.up, v3(0, 1, 0)) && s->camera.fov_deg == 60.0f);
+        CHECK(s->nlights == 2 && same_vec(s->lights[0], v3(0, 120, 0)) && same_vec(s->lights[1], v3(-80, 25, -2)));
+    }
+    scene_free(s);
+    /* A view spec after a named view changes only what it names. */
+    s = scene_load("sibenik@nave@fov=60", err, sizeof err);
+    CHECK_MSG(s != NULL, "%s", err);
+    if (s) CHECK(s->camera.fov_deg == 60.0f && same_vec(s->camera.from, v3(-18, -10, 0)) && !strcmp(s->view, "nave@fov=60"));
+    scene_free(s);
+
+    expect_error("sibenik@roof", "scene 'sibenik@roof': unknown view 'roof' (known: nave; or a view spec eye=X,Y,Z");
+    expect_error("sponza@nave", "unknown view 'nave' (known: courtyard;");
+    expect_error("spd:balls:1@nave", "unknown view 'nave' (spd:balls:1 has no named views; give a view spec");
+    expect_error("@nave", "no scene before the '@'");
+    /* Views are checked before the mesh is read: this file does not exist. */
+    expect_error(TMP "/nothere.obj@eye=1,2", "view 'eye=1,2': expected eye=X,Y,Z");
+}
+
+/* View specs on any scene: applied after loading, what they leave out
+ * kept; impossible cameras refused. */
+static void test_view_specs(void)
+{
+    write_file(TMP "/v.obj", small_obj);
+    scene_t *s = scene_load(TMP "/v.obj@eye=1,2,3;at=0.5,0.5,0;up=0,0,1;fov=30", err, sizeof err);
+    CHECK_MSG(s != NULL, "%s", err);
+    if (s) {
+        CHECK(same_vec(s->camera.from, v3(1, 2, 3)) && same_vec(s->camera.at, v3(0.5f, 0.5f, 0)));
+        CHECK(same_vec(s->camera.up, v3(0, 0, 1)) && s->camera.fov_deg == 30.0f);
+        CHECK(!strcmp(s->view, "eye=1,2,3;at=0.5,0.5,0;up=0,0,1;fov=30"));
+        CHECK(!strcmp(s->name, TMP "/v.obj@eye=1,2,3;at=0.5,0.5,0;up=0,0,1;fov=30"));
+    }
+    scene_free(s);
+    s = scene_load("spd:balls:1@fov=20", err, sizeof err); /* the SPD's eye stays */
+    if (s) CHECK(s->camera.fov_deg == 20.0f && vec_near(s->camera.from, 2.1, 1.3, 1.7, 1e-6) && s->nlights == 3);
+    scene_free(s);
+    s = scene_load("spd:balls:1", err, sizeof err);
+    if (s) CHECK(!strcmp(s->view, "source"));
+    scene_free(s);
+    expect_error("spd:balls:1@eye=0,0,0", "view eye=0,0,0: eye and at are the same point");
+    expect_error("spd:balls:1@eye=0,0,5", "up (0 0 1) is zero or along the view direction");
+    expect_error("spd:balls:1@up=0,0,0", "is zero or along");
+
+    /* '@' in a folder name, and a file whose whole name has one. */
+    CHECK(system("mkdir -p '" TMP "/at@dir' && cp " TMP "/v.obj '" TMP "/at@dir/v.obj' && cp " TMP "/v.obj '" TMP
+                 "/v@2.obj'") == 0);
+    s = scene_load(TMP "/at@dir/v.obj@fov=10", err, sizeof err);
+    CHECK_MSG(s && s->camera.fov_deg == 10.0f, "%s", err);
+    scene_free(s);
+    s = scene_load(TMP "/v@2.obj", err, sizeof err);
+    CHECK_MSG(s && !strcmp(s->view, "automatic"), "%s", err);
+    scene_free(s);
+
+    /* The parser alone: --view's. */
+    scene_view v;
+    CHECK(scene_view_parse("fov=45;up=0,1,0", &v, err, sizeof err) == 0 &&
+          v.given == (SCENE_VIEW_FOV | SCENE_VIEW_UP) && v.fov_deg == 45.0f && v.nlights == 0);
+    CHECK(scene_view_parse("eye=-1.5e2,+2,.5", &v, err, sizeof err) == 0 && same_vec(v.eye, v3(-150, 2, 0.5f)));
+    static const struct { const char *spec, *want; } bad[] = {
+        {"", "empty view"},
+        {"eye=1,2", "'eye=1,2': expected eye=X,Y,Z"},
+        {"eye=1,2,3,4", "'eye=1,2,3,4': expected eye=X,Y,Z"},
+        {"at=a,b,c", "'at=a,b,c': expected at=X,Y,Z"},
+        {"up=1, 2,3", "'up=1, 2,3'"},
+        {"eye=nan,0,0", "'eye=nan,0,0'"},
+        {"eye=1e99,0,0", "'eye=1e99,0,0'"},
+        {"fov=0", "'fov=0': expected an angle in degrees, 0 < DEG < 180"},
+        {"fov=180", "'fov=180'"},
+        {"fov=45deg", "'fov=45deg'"},
+        {"zoom=2", "'zoom=2': unknown part 'zoom' (known: eye, at, up, fov)"},
+        {"fov=40;fov=50", "'fov=50': fov given twice"},
+        {"fov=40;", "empty part"},
+        {";fov=40", "empty part"},
+        {"eye", "'eye': expected KEY=VALUE"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        err[0] = '\0';
+        CHECK_MSG(scene_view_parse(bad[i].spec, &v, err, sizeof err) == -1, "'%s' parsed", bad[i].spec);
+        CHECK_MSG(strstr(err, bad[i].want) != NULL && !strchr(err, '\n'), "'%s': error '%s' lacks '%s'", bad[i].spec, err,
+                  bad[i].want);
+    }
+}
+
 int main(void)
 {
     if (system("rm -rf " TMP " && mkdir -p " TMP) != 0) return 2;
@@ -377,5 +548,9 @@ int main(void)
     test_files();
     test_gltf();
     test_errors();
+    test_scene_path();
+    test_named_views();
+    test_view_specs();
+    unsetenv("ACCELBENCH_SCENES");
     return check_report();
 }

@@ -744,7 +744,7 @@ static void test_names(void)
     CHECK(strstr(buf, "set:medium") && strstr(buf, "set:scaling:gears"));
     free(buf);
 
-    /* A repository mesh loads from the source tree (xz-compressed OBJ). */
+    /* A mesh from the scene path loads (xz-compressed OBJ, ../shared/scenes or $ACCELBENCH_SCENES). */
     s = load("sibenik");
     if (s) CHECK_MSG(s->prims.ntris == 75284, "sibenik: %u triangles", s->prims.ntris);
     scene_free(s);

@@ -41,6 +41,17 @@ static inline accel *test_build(const char *name, const scene_t *s, int threads)
     return a;
 }
 
+/* Build ops with "k=v,k=v" over its defaults; NULL with the reason. */
+static inline accel *test_build_with(const struct accel_ops *ops, const scene_t *s, const char *settings, int threads,
+                                     char *err, size_t errlen)
+{
+    accel_params p;
+    params_defaults(&p, ops->params);
+    p.threads = threads;
+    if (params_set_list(&p, settings ? settings : "", err, errlen)) return NULL;
+    return accel_build(ops, s, &p, err, errlen);
+}
+
 static inline workload_opts test_wl(int w, int h, int threads)
 {
     workload_opts o = {.width = w, .height = h, .spp = 1, .depth = 3, .seed = 7, .threads = threads};

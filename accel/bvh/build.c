@@ -1,0 +1,160 @@
+/* build.c: the parts every BVH builder shares: allocation, trimming and
+ * measuring, centroids, and the top-down driver that the median and SAH
+ * builders run with their own split choice. */
+#include "build.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void bvh_config_defaults(bvh_config *cfg)
+{
+    cfg->max_leaf = 4;
+    cfg->bins = 16;
+    cfg->cost_traversal = 1.0f;
+    cfg->cost_intersect = 1.0f;
+    cfg->insert_seed = 0;
+}
+
+bvh_config bvh_config_or_defaults(const bvh_config *cfg)
+{
+    bvh_config c;
+    bvh_config_defaults(&c);
+    if (cfg) c = *cfg;
+    if (c.max_leaf < 1) c.max_leaf = 1;
+    if (c.bins < 2) c.bins = 2;
+    if (c.bins > 256) c.bins = 256;
+    return c;
+}
+
+int bvh_alloc(bvh_t *b, uint32_t n)
+{
+    memset(b, 0, sizeof *b);
+    if (!n) return 0;
+    b->nodes = malloc((2 * (size_t)n - 1) * sizeof *b->nodes);
+    b->refs = malloc((size_t)n * sizeof *b->refs);
+    if (!b->nodes || !b->refs) {
+        bvh_free(b);
+        return -1;
+    }
+    return 0;
+}
+
+int bvh_finish(bvh_t *b)
+{
+    if (!b->nnodes) return 0;
+    bvh_node *nodes = realloc(b->nodes, (size_t)b->nnodes * sizeof *nodes);
+    if (nodes) b->nodes = nodes; /* a failed shrink keeps the larger array */
+    /* Depth-first over the tree with (node, depth) pairs: at most nnodes
+     * are ever pending. */
+    uint32_t *stack = malloc(2 * (size_t)b->nnodes * sizeof *stack), n = 0;
+    if (!stack) {
+        bvh_free(b);
+        return -1;
+    }
+    b->nleaves = b->max_depth = 0;
+    stack[n++] = 0, stack[n++] = 0;
+    while (n) {
+        uint32_t depth = stack[--n], ni = stack[--n];
+        const bvh_node *node = &b->nodes[ni];
+        if (node->count) {
+            b->nleaves++;
+            if (depth > b->max_depth) b->max_depth = depth;
+            continue;
+        }
+        for (uint32_t k = 0; k < 2; k++) stack[n++] = node->index + k, stack[n++] = depth + 1;
+    }
+    free(stack);
+    return 0;
+}
+
+const vec3 *bvh_centroids(const box3 *boxes, const vec3 *centroids, uint32_t n, vec3 **owned)
+{
+    *owned = NULL;
+    if (centroids) return centroids;
+    *owned = malloc(((size_t)n + 1) * sizeof **owned);
+    if (!*owned) return NULL;
+    for (uint32_t i = 0; i < n; i++) (*owned)[i] = box_center(boxes[i]);
+    return *owned;
+}
+
+box3 bvh_centroid_bounds(const uint32_t *ids, uint32_t n, const vec3 *centroids)
+{
+    box3 cb = box_empty();
+    for (uint32_t i = 0; i < n; i++) cb = box_grow(cb, centroids[ids[i]]);
+    return cb;
+}
+
+void bvh_select(uint32_t *ids, uint32_t n, uint32_t k, const vec3 *centroids, int axis)
+{
+    int64_t lo = 0, hi = (int64_t)n - 1;
+    while (lo < hi) {
+        float pivot = v3_get(centroids[ids[lo + (hi - lo) / 2]], axis);
+        int64_t i = lo, j = hi;
+        /* Hoare's partition: both scans stop on keys equal to the pivot,
+         * so runs of equal centroids split in the middle. */
+        while (i <= j) {
+            while (v3_get(centroids[ids[i]], axis) < pivot) i++;
+            while (v3_get(centroids[ids[j]], axis) > pivot) j--;
+            if (i <= j) {
+                uint32_t t = ids[i];
+                ids[i++] = ids[j];
+                ids[j--] = t;
+            }
+        }
+        /* Now ids[lo .. j] <= pivot <= ids[i .. hi], and between them
+         * (if anything) equal to the pivot. */
+        if ((int64_t)k <= j) hi = j;
+        else if ((int64_t)k >= i) lo = i;
+        else break;
+    }
+}
+
+typedef struct {
+    uint32_t node, begin, end;
+} task_t;
+
+int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg,
+                      bvh_split_fn split)
+{
+    if (bvh_alloc(b, n)) return -1;
+    if (!n) return 0;
+    bvh_config c = bvh_config_or_defaults(cfg);
+    vec3 *owned;
+    const vec3 *cent = bvh_centroids(boxes, centroids, n, &owned);
+    /* Pending tasks never exceed the leaves still to make: n. */
+    task_t *tasks = malloc((size_t)n * sizeof *tasks);
+    if (!cent || !tasks) {
+        free(owned);
+        free(tasks);
+        bvh_free(b);
+        return -1;
+    }
+    for (uint32_t i = 0; i < n; i++) b->refs[i] = i;
+    b->nrefs = n;
+    b->nnodes = 1;
+    uint32_t ntasks = 0;
+    tasks[ntasks++] = (task_t){0, 0, n};
+    while (ntasks) {
+        task_t t = tasks[--ntasks];
+        uint32_t *ids = b->refs + t.begin, cnt = t.end - t.begin;
+        bvh_node *node = &b->nodes[t.node];
+        node->box = box_empty();
+        for (uint32_t i = 0; i < cnt; i++) node->box = box_union(node->box, boxes[ids[i]]);
+        uint32_t m = cnt > 1 ? split(ids, cnt, node->box, boxes, cent, &c) : 0;
+        if (m == 0 && cnt > c.max_leaf) m = cnt / 2; /* a split function that declined: split by count */
+        if (m == 0 || m >= cnt) {
+            node->index = t.begin;
+            node->count = cnt;
+            continue;
+        }
+        uint32_t l = b->nnodes;
+        b->nnodes += 2;
+        node->index = l;
+        node->count = 0;
+        tasks[ntasks++] = (task_t){l + 1, t.begin + m, t.end};
+        tasks[ntasks++] = (task_t){l, t.begin, t.begin + m};
+    }
+    free(tasks);
+    free(owned);
+    return bvh_finish(b);
+}

@@ -1,0 +1,41 @@
+/* build.h: what the BVH builders share (build.c); not for accelerators,
+ * which include bvh.h. */
+#ifndef ACCELBENCH_BVH_BUILD_H
+#define ACCELBENCH_BVH_BUILD_H
+
+#include "bvh.h"
+
+/* cfg, or the defaults when NULL. */
+bvh_config bvh_config_or_defaults(const bvh_config *cfg);
+
+/* Room for a tree over n primitives (2n - 1 nodes, n refs), *b empty
+ * otherwise. 0, or -1 out of memory (nothing held). */
+int bvh_alloc(bvh_t *b, uint32_t n);
+/* After building: trim the arrays to what is used, count the leaves and
+ * measure the depth. 0, or -1 out of memory (*b freed). */
+int bvh_finish(bvh_t *b);
+
+/* The centroids the builders use: centroids itself, or (NULL) the boxes'
+ * centres in *owned, which the caller frees. NULL out of memory. */
+const vec3 *bvh_centroids(const box3 *boxes, const vec3 *centroids, uint32_t n, vec3 **owned);
+
+/* A top-down builder's choice for the primitives ids[0 .. n) (n >= 2) of a
+ * node with box `box`: reorder ids and return m, 0 < m < n, to split them
+ * into ids[0 .. m) and ids[m .. n); or 0 to make a leaf (only allowed for
+ * n <= cfg->max_leaf). */
+typedef uint32_t (*bvh_split_fn)(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
+                                 const bvh_config *cfg);
+/* The top-down driver: a node per task, children allocated in adjacent
+ * pairs, no recursion (a degenerate split sequence cannot overflow the C
+ * stack). */
+int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg,
+                      bvh_split_fn split);
+
+/* Centroid bounds of ids[0 .. n). */
+box3 bvh_centroid_bounds(const uint32_t *ids, uint32_t n, const vec3 *centroids);
+/* Reorder ids[0 .. n) so that ids[k] holds the primitive of k-th smallest
+ * centroid coordinate on axis, none greater before it and none smaller
+ * after (Hoare's FIND, CACM 4(7), 1961); expected O(n). */
+void bvh_select(uint32_t *ids, uint32_t n, uint32_t k, const vec3 *centroids, int axis);
+
+#endif

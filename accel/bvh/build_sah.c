@@ -1,0 +1,96 @@
+/* build_sah.c: the binned SAH builder (bvh.h).
+ *
+ * The surface area heuristic (MacDonald and Booth 1990; Goldsmith and
+ * Salmon 1987 before them): a ray that meets a node's box meets a child's
+ * box with probability A(child) / A(node) (uniform random lines, convex
+ * boxes), so splitting n primitives into L and R costs
+ *   C = ct + ci (A(L) N(L) + A(R) N(R)) / A(node)
+ * against ci n for a leaf. Binning (Wald 2007): the centroids of a node are
+ * dropped into `bins` equal slots along each axis of their bounds; the
+ * candidate cuts are the bins - 1 slot boundaries, all evaluated in one
+ * sweep from each side; the cheapest over the three axes wins.
+ *
+ * A node of at most max_leaf primitives becomes a leaf when no cut is
+ * cheaper; a larger one is always cut (the cheapest cut, or, when all
+ * centroids fall into one slot on every axis, in two halves by count).
+ * Costs are compared multiplied through by A(node), so a node of zero area
+ * (all its primitives on one line or point) needs no division. */
+#include <stdlib.h>
+#include "build.h"
+
+#define SAH_MAX_BINS 256
+
+typedef struct {
+    box3 box;
+    uint32_t count;
+} bin_t;
+
+/* The slot of centroid coordinate x: the one formula binning and
+ * partitioning both use, so they cannot disagree. */
+static inline uint32_t slot_of(float x, float lo, float scale, uint32_t bins)
+{
+    float f = (x - lo) * scale;
+    uint32_t s = f > 0.0f ? (uint32_t)f : 0;
+    return s < bins ? s : bins - 1;
+}
+
+static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
+                          const bvh_config *cfg)
+{
+    uint32_t nb = cfg->bins;
+    box3 cb = bvh_centroid_bounds(ids, n, centroids);
+    double area = box_area(box), best = INFINITY;
+    int best_axis = -1;
+    uint32_t best_slot = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        float lo = v3_get(cb.lo, axis), ext = v3_get(cb.hi, axis) - lo;
+        if (!(ext > 0.0f)) continue;
+        float scale = (float)nb / ext;
+        bin_t bins[SAH_MAX_BINS];
+        for (uint32_t k = 0; k < nb; k++) bins[k] = (bin_t){box_empty(), 0};
+        for (uint32_t i = 0; i < n; i++) {
+            bin_t *bn = &bins[slot_of(v3_get(centroids[ids[i]], axis), lo, scale, nb)];
+            bn->box = box_union(bn->box, boxes[ids[i]]);
+            bn->count++;
+        }
+        /* right[k]: area-times-count of bins k+1 .. nb-1, swept from the right. */
+        double right[SAH_MAX_BINS];
+        box3 acc = box_empty();
+        uint32_t cnt = 0;
+        for (uint32_t k = nb - 1; k > 0; k--) {
+            acc = box_union(acc, bins[k].box);
+            cnt += bins[k].count;
+            right[k - 1] = cnt ? (double)box_area(acc) * cnt : -1.0; /* -1: empty side */
+        }
+        acc = box_empty();
+        cnt = 0;
+        for (uint32_t k = 0; k + 1 < nb; k++) {
+            acc = box_union(acc, bins[k].box);
+            cnt += bins[k].count;
+            if (!cnt || right[k] < 0.0) continue;
+            double cost = cfg->cost_traversal * area + cfg->cost_intersect * ((double)box_area(acc) * cnt + right[k]);
+            if (cost < best) best = cost, best_axis = axis, best_slot = k;
+        }
+    }
+    if (best_axis < 0) return 0; /* every centroid in one slot: the driver splits by count */
+    if (n <= cfg->max_leaf && (double)cfg->cost_intersect * n * area <= best) return 0;
+
+    /* Partition: slots <= best_slot first. */
+    float lo = v3_get(cb.lo, best_axis), scale = (float)nb / (v3_get(cb.hi, best_axis) - lo);
+    uint32_t i = 0, j = n;
+    while (i < j) {
+        if (slot_of(v3_get(centroids[ids[i]], best_axis), lo, scale, nb) <= best_slot) {
+            i++;
+        } else {
+            uint32_t t = ids[i];
+            ids[i] = ids[--j];
+            ids[j] = t;
+        }
+    }
+    return i;
+}
+
+int bvh_build_sah(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg)
+{
+    return bvh_build_topdown(b, boxes, centroids, n, cfg, sah_split);
+}

@@ -1,0 +1,454 @@
+/* mesh_check.c: OBJ, OFF, PLY and STL files checked before assimp reads them.
+ *
+ * assimp (Debian's 5.2.5) carries on with altered data on some bad input,
+ * loops on some, and allocates what a header declares before reading it
+ * (load_mesh.c's header has the rest of the story). These checks read the
+ * formats line by line as assimp does and turn each such case into an
+ * error naming the file and the line:
+ * - OBJ: a face of 1 or 2 vertices (assimp keeps it as a point or a line,
+ *   which the loader skips, so a file cut off mid-face lost its last face
+ *   without a word), a vertex line short of a number (assimp then reads
+ *   garbage), a face reference that is not an index or names no vertex
+ *   before it;
+ * - OFF: files with 3D vertices (OFF, COFF, NOFF, STOFF ...) completely
+ *   (assimp reads missing numbers as 0, and crashes on some faces of COFF
+ *   files); the others (4OFF, nOFF) only for counts the file's lines
+ *   cannot hold (assimp allocates them first: a 2e9-vertex header is a
+ *   12 GB std::bad_alloc);
+ * - PLY: a header without its end_header line (assimp loops forever),
+ *   element counts the bytes after the header cannot hold;
+ * - STL (ASCII): a facet without a normal, of other than 3 vertices, a
+ *   number missing, a solid without facets (assimp throws, and leaks);
+ * - OBJ, OFF and ASCII STL vertices outside the scene range
+ *   (scene.h), here where the line is known (scene_finish checks every
+ *   source again).
+ * A cut that leaves only complete lines ("f 1 2 3" from "f 1 2 34")
+ * cannot be told from a complete file. */
+#include "mesh_check.h"
+#include "scene.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+/* ------------------------------------------------------------ lines */
+
+#define BLANKS " \t\r\f\v"
+
+typedef struct {
+    const char *p, *end;
+    unsigned line;   /* number of the line last returned, 1-based */
+    bool cut;        /* the line last returned was longer than buf (its tail dropped) */
+    char buf[4096];  /* assimp's OFF line limit too */
+} line_reader;
+
+/* The next line that is not blank once its '#' comment is removed; NULL at
+ * the end of the data. */
+static const char *next_line(line_reader *r)
+{
+    while (r->p < r->end) {
+        const char *eol = memchr(r->p, '\n', (size_t)(r->end - r->p));
+        if (!eol) eol = r->end;
+        size_t n = (size_t)(eol - r->p);
+        r->cut = n >= sizeof r->buf;
+        if (r->cut) n = sizeof r->buf - 1;
+        memcpy(r->buf, r->p, n);
+        r->buf[n] = '\0';
+        r->p = eol < r->end ? eol + 1 : r->end;
+        r->line++;
+        char *hash = strchr(r->buf, '#');
+        if (hash) *hash = '\0';
+        if (r->buf[strspn(r->buf, BLANKS)]) return r->buf;
+    }
+    return NULL;
+}
+
+/* Parse up to max whole numbers (integers when ints) from s; returns how
+ * many parsed before something that is not a number. */
+static int parse_numbers(const char *s, double *v, int max, bool ints)
+{
+    int n = 0;
+    while (n < max) {
+        char *e;
+        double x = ints ? (double)strtol(s, &e, 10) : strtod(s, &e);
+        if (e == s || (*e && !strchr(BLANKS, *e))) break;
+        v[n++] = x;
+        s = e;
+    }
+    return n;
+}
+
+/* Whether line l starts with the keyword kw followed by a blank or its end. */
+static bool keyword(const char *l, const char *kw)
+{
+    size_t n = strlen(kw);
+    return strncmp(l, kw, n) == 0 && (!l[n] || strchr(BLANKS, l[n]));
+}
+
+/* The ranges every scene lies in (scene.h), for vertex v (the format's own
+ * numbering) on a line: -1 with "PATH: line L: vertex V coordinate X ...".
+ * NaN and inf pass: assimp reads them as such and the loader's own check
+ * says so. */
+static int coords_out_of_range(const double *xyz, const char *path, unsigned line, uint32_t v, char *err, size_t errlen)
+{
+    for (int k = 0; k < 3; k++)
+        if (isfinite(xyz[k]) && !(fabs(xyz[k]) <= SCENE_COORD_MAX)) {
+            snprintf(err, errlen, "%s: line %u: vertex %u coordinate %g is outside the scene range: coordinates must be "
+                     SCENE_COORD_RANGE, path, line, v, xyz[k]);
+            return -1;
+        }
+    return 0;
+}
+
+/* -------------------------------------------------------------- OBJ */
+
+/* A face reference V, V/T, V//N or V/T/N (T and N may be empty, as assimp
+ * allows): true with its vertex index, false when tok is not one. */
+static bool obj_ref(const char *tok, long *v)
+{
+    char *e;
+    errno = 0;
+    *v = strtol(tok, &e, 10);
+    if (e == tok || errno || (*e && *e != '/')) return false;
+    for (int part = 0; *e == '/' && part < 2; part++) {
+        char *s = e + 1;
+        e = s;
+        if (*s && *s != '/' && (strtol(s, &e, 10), e == s)) return false;
+    }
+    return *e == '\0';
+}
+
+/* One "f" line (after the keyword): 1 or 2 references are refused (a face
+ * with none assimp refuses itself), each reference must be an index, not
+ * 0, and a negative one (counted back from the last vertex) must name one
+ * of the nv vertices so far. Positive ones may point forward, as assimp
+ * allows; it refuses any beyond the file's count. A line cut by the reader
+ * is only checked as far as it was read. */
+static int obj_face(char *refs, bool cut, uint32_t nv, const char *path, unsigned line, char *err, size_t errlen)
+{
+    int n = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(refs, BLANKS, &save); tok; tok = strtok_r(NULL, BLANKS, &save), n++) {
+        long v;
+        if (cut && !save[0]) break; /* the last token of a cut line may be cut too */
+        if (!obj_ref(tok, &v)) {
+            snprintf(err, errlen, "%s: line %u: face vertex '%.32s' is not an index (V, V/T, V//N or V/T/N)", path, line, tok);
+            return -1;
+        }
+        if (v == 0 || (v < 0 && (unsigned long)-v > nv)) {
+            snprintf(err, errlen, "%s: line %u: face uses vertex %ld, but %u vertices come before it (OBJ counts from 1, "
+                     "negative from the last)", path, line, v, nv);
+            return -1;
+        }
+    }
+    if ((n == 1 || n == 2) && !cut) {
+        snprintf(err, errlen, "%s: line %u: a face of %d vertices; a face needs at least 3 (a file cut off mid-face?)",
+                 path, line, n);
+        return -1;
+    }
+    return 0;
+}
+
+/* One logical line into out: a line ending in '\' continues on the next,
+ * as assimp reads it. NULL at the end; *first is its first line's number. */
+static char *obj_line(line_reader *r, char *out, size_t outlen, unsigned *first, bool *cut)
+{
+    const char *l = next_line(r);
+    if (!l) return NULL;
+    *first = r->line;
+    *cut = r->cut;
+    size_t n = 0;
+    for (;;) {
+        size_t k = strlen(l);
+        if (n + k >= outlen) k = outlen - 1 - n, *cut = true;
+        memcpy(out + n, l, k);
+        n += k;
+        out[n] = '\0';
+        while (n && strchr(BLANKS, out[n - 1])) out[--n] = '\0';
+        if (!n || out[n - 1] != '\\' || *cut) return out;
+        out[n - 1] = ' ';
+        if (!(l = next_line(r))) return out;
+        *cut = *cut || r->cut;
+    }
+}
+
+static int obj_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
+{
+    line_reader r = {data, data + size, 0, false, {0}};
+    uint32_t nv = 0;
+    char buf[8192];
+    unsigned line;
+    bool cut;
+    for (char *l; (l = obj_line(&r, buf, sizeof buf, &line, &cut));) {
+        l += strspn(l, BLANKS);
+        if (keyword(l, "v")) {
+            double xyz[3];
+            if (parse_numbers(l + 1, xyz, 3, false) < 3) {
+                snprintf(err, errlen, "%s: line %u: vertex %u needs 3 coordinates (truncated file?)", path, line, nv + 1);
+                return -1;
+            }
+            if (coords_out_of_range(xyz, path, line, nv + 1, err, errlen)) return -1;
+            if (nv == UINT32_MAX) {
+                snprintf(err, errlen, "%s: line %u: more than 2^32 - 1 vertices", path, line);
+                return -1;
+            }
+            nv++;
+        } else if (keyword(l, "f") && obj_face(l + 1, cut, nv, path, line, err, errlen)) {
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* -------------------------------------------------------------- OFF */
+
+/* A variant's counts (on the header line after the keyword, else on the
+ * next lines) against the lines that follow them: one line per vertex and
+ * per face, as assimp reads them. */
+static int off_variant_check(line_reader *r, const char *after_keyword, const char *path, char *err, size_t errlen)
+{
+    double cnt[3];
+    const char *l;
+    int n = parse_numbers(after_keyword, cnt, 3, true);
+    for (int tries = 0; tries < 2 && n < 2 && (l = next_line(r)); tries++) /* nOFF: a dimension line first */
+        n = parse_numbers(l, cnt, 3, true);
+    if (n < 2 || cnt[0] < 0 || cnt[1] < 0) return 0; /* assimp will say what is wrong */
+    unsigned counts_line = r->line;
+    double lines = 0;
+    while (next_line(r)) lines++;
+    if (cnt[0] + cnt[1] > lines) {
+        snprintf(err, errlen, "%s: line %u: declares %.0f vertices and %.0f faces, but %.0f lines follow (truncated or "
+                 "corrupt file?)", path, counts_line, cnt[0], cnt[1], lines);
+        return -1;
+    }
+    return 0;
+}
+
+/* Whether the n-byte header keyword kw is OFF with 3D vertices whose
+ * extra numbers (texture coordinates, colours, a normal) follow x y z:
+ * [ST][C][N]OFF. */
+static bool off_xyz_keyword(const char *kw, size_t n)
+{
+    if (n >= 2 && strncmp(kw, "ST", 2) == 0) kw += 2, n -= 2;
+    if (n && *kw == 'C') kw++, n--;
+    if (n && *kw == 'N') kw++, n--;
+    return n == 3 && strncmp(kw, "OFF", 3) == 0;
+}
+
+/* OFF with 3D vertices ([ST][C][N]OFF), line by line as assimp reads it:
+ * the counts, NV lines of at least 3 numbers, NF lines of "K i1 .. iK"
+ * with every index in range; extra numbers (colours) are allowed. Other
+ * variants (4OFF, nOFF) only have their counts checked. */
+static int off_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
+{
+    line_reader r = {data, data + size, 0, false, {0}};
+    const char *l = next_line(&r);
+    if (!l) return 0; /* assimp will say what is wrong */
+    l += strspn(l, BLANKS);
+    size_t kw = strcspn(l, BLANKS);
+    if (kw < 3 || strncmp(l + kw - 3, "OFF", 3) != 0) return 0;
+    if (!off_xyz_keyword(l, kw)) return off_variant_check(&r, l + kw, path, err, errlen);
+    double cnt[3];
+    int n = parse_numbers(l + kw, cnt, 3, true);
+    if (n == 0) {
+        if (!(l = next_line(&r))) {
+            snprintf(err, errlen, "%s: ends after the OFF header, with no counts", path);
+            return -1;
+        }
+        n = parse_numbers(l, cnt, 3, true);
+    }
+    if (n < 2 || cnt[0] < 0 || cnt[1] < 0 || cnt[0] > UINT32_MAX || cnt[1] > UINT32_MAX) {
+        snprintf(err, errlen, "%s: line %u: expected the vertex and face counts", path, r.line);
+        return -1;
+    }
+    uint32_t nv = (uint32_t)cnt[0], nf = (uint32_t)cnt[1];
+    for (uint32_t v = 0; v < nv; v++) {
+        double xyz[3];
+        if (!(l = next_line(&r))) {
+            snprintf(err, errlen, "%s: ends after %u of %u vertices (truncated file?)", path, v, nv);
+            return -1;
+        }
+        if (parse_numbers(l, xyz, 3, false) < 3) {
+            snprintf(err, errlen, "%s: line %u: vertex %u needs 3 coordinates", path, r.line, v);
+            return -1;
+        }
+        if (coords_out_of_range(xyz, path, r.line, v, err, errlen)) return -1;
+    }
+    for (uint32_t f = 0; f < nf; f++) {
+        double idx[11];
+        if (!(l = next_line(&r))) {
+            snprintf(err, errlen, "%s: ends after %u of %u faces (truncated file?)", path, f, nf);
+            return -1;
+        }
+        int got = parse_numbers(l, idx, 11, true);
+        if (got < 1 || idx[0] < 1) {
+            snprintf(err, errlen, "%s: line %u: face %u needs a vertex count of at least 1", path, r.line, f);
+            return -1;
+        }
+        if (idx[0] > 9) { /* assimp 5.2 drops such faces; fail like it logs */
+            snprintf(err, errlen, "%s: line %u: face %u has %g vertices; assimp's OFF reader takes at most 9", path, r.line, f, idx[0]);
+            return -1;
+        }
+        int k = (int)idx[0];
+        if (got < 1 + k) {
+            snprintf(err, errlen, "%s: line %u: face %u needs %d vertex indices (truncated file?)", path, r.line, f, k);
+            return -1;
+        }
+        for (int j = 1; j <= k; j++)
+            if (idx[j] < 0 || idx[j] >= nv) {
+                snprintf(err, errlen, "%s: line %u: face %u uses vertex %g of %u", path, r.line, f, idx[j], nv);
+                return -1;
+            }
+    }
+    return 0;
+}
+
+/* -------------------------------------------------------------- PLY */
+
+/* Bytes of a PLY scalar type, 0 for an unknown one. */
+static unsigned ply_type_size(const char *t)
+{
+    static const struct { const char *name; unsigned size; } types[] = {
+        {"char", 1}, {"uchar", 1}, {"int8", 1}, {"uint8", 1}, {"short", 2}, {"ushort", 2}, {"int16", 2},
+        {"uint16", 2}, {"int", 4}, {"uint", 4}, {"int32", 4}, {"uint32", 4}, {"float", 4}, {"float32", 4},
+        {"double", 8}, {"float64", 8}};
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(t, types[i].name) == 0) return types[i].size;
+    return 0;
+}
+
+typedef struct {
+    double count;    /* as declared */
+    unsigned line;   /* of its "element" line */
+    unsigned least;  /* bytes one instance takes at least */
+} ply_element;
+
+/* The header: end_header must come, and every element's declared count
+ * must fit in the bytes after it at the least each instance takes (ASCII:
+ * a digit and a blank per property; binary: its scalars, a list's count).
+ * Lines are read as assimp reads them; an element's properties follow it. */
+static int ply_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
+{
+    line_reader r = {data, data + size, 0, false, {0}};
+    bool ascii = true;
+    ply_element el[64];
+    int nel = 0;
+    for (const char *l; (l = next_line(&r));) {
+        l += strspn(l, BLANKS);
+        char w[4][64] = {{0}};
+        int nw = sscanf(l, "%63s %63s %63s %63s", w[0], w[1], w[2], w[3]);
+        if (keyword(l, "end_header")) {
+            double bytes = (double)(r.end - r.p);
+            for (int i = 0; i < nel; i++) {
+                double need = el[i].count * (el[i].least ? el[i].least : 1);
+                if (need > bytes) {
+                    snprintf(err, errlen, "%s: line %u: declares %.0f elements, which need at least %.0f bytes; %.0f "
+                             "follow the header (truncated or corrupt file?)", path, el[i].line, el[i].count, need, bytes);
+                    return -1;
+                }
+                bytes -= need;
+            }
+            return 0;
+        }
+        if (nw >= 2 && strcmp(w[0], "format") == 0) {
+            ascii = strcmp(w[1], "ascii") == 0;
+        } else if (nw >= 3 && strcmp(w[0], "element") == 0 && nel < (int)(sizeof el / sizeof el[0])) {
+            double c = 0; /* the leading digits, as assimp reads a count ("5z" is 5), without its 32-bit wrap */
+            for (const char *d = w[2]; isdigit((unsigned char)*d); d++) c = 10 * c + (*d - '0');
+            el[nel++] = (ply_element){c, r.line, 0};
+        } else if (nw >= 3 && strcmp(w[0], "property") == 0 && nel > 0) {
+            bool list = strcmp(w[1], "list") == 0;
+            el[nel - 1].least += ascii ? 2 : ply_type_size(w[1 + list]);
+        }
+    }
+    snprintf(err, errlen, "%s: the PLY header has no end_header line (truncated file?)", path);
+    return -1;
+}
+
+/* -------------------------------------------------------------- STL */
+
+/* A number as assimp's fast_atoreal_move takes it (a sign, then a digit or
+ * '.' and a digit; or nan, inf), and whole. */
+static bool stl_number(const char *tok, double *x)
+{
+    const char *t = tok + (*tok == '+' || *tok == '-');
+    bool named = strncasecmp(t, "nan", 3) == 0 || strncasecmp(t, "inf", 3) == 0;
+    if (!named && !(isdigit((unsigned char)t[0]) || (t[0] == '.' && isdigit((unsigned char)t[1])))) return false;
+    char *e;
+    *x = strtod(tok, &e);
+    return e != tok && *e == '\0';
+}
+
+/* Three numbers from the same line (assimp reads them across spaces, not
+ * line ends); false if there are not three. */
+static bool stl_numbers(char **save, double *xyz)
+{
+    for (int k = 0; k < 3; k++) {
+        const char *tok = strtok_r(NULL, BLANKS, save);
+        if (!tok || !stl_number(tok, &xyz[k])) return false;
+    }
+    return true;
+}
+
+/* ASCII STL (assimp's rule: not a binary file's exact size 84 + 50 n, and
+ * "solid" first), token by token as assimp's reader goes: every facet is
+ * "facet normal X Y Z" on one line and exactly 3 "vertex X Y Z" lines (the
+ * coordinates within the scene range) before the next facet or endsolid.
+ * assimp throws on a facet without a normal or of other than 3 vertices,
+ * on a missing number and on a solid without facets, and leaks the mesh it
+ * was filling each time. Binary files pass: assimp checks their size, the
+ * loader their coordinates. */
+static int stl_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
+{
+    uint32_t n;
+    if (size >= 84 && (memcpy(&n, data + 80, 4), 84 + 50 * (uint64_t)n == size)) return 0;
+    const char *p = data + strspn(data, BLANKS "\n");
+    if ((size_t)(p - data) + 5 > size || strncmp(p, "solid", 5) != 0) return 0;
+    line_reader r = {data, data + size, 0, false, {0}};
+    unsigned facet = 0;             /* the line of the open facet, 0 before the first */
+    int nvert = 3;                  /* vertices of the open facet */
+    uint32_t v = 0;                 /* vertices so far */
+    const char *why = NULL;
+    unsigned at = 0; /* the line the message names */
+    for (char *l; !why && (l = (char *)next_line(&r));) {
+        at = r.line;
+        char *save = NULL;
+        double xyz[3];
+        for (char *tok = strtok_r(l, BLANKS, &save); tok && !why; tok = strtok_r(NULL, BLANKS, &save)) {
+            bool end = strncmp(tok, "endsolid", 8) == 0;
+            if ((end || !strcmp(tok, "facet")) && nvert != 3) {
+                why = "a facet of other than 3 vertices", at = facet;
+            } else if (end) {
+                if (v == 0) why = "a solid without facets";
+                break; /* the rest of the line is its name */
+            } else if (!strcmp(tok, "solid")) {
+                break; /* and its name */
+            } else if (!strcmp(tok, "facet")) {
+                facet = r.line, nvert = 0;
+                const char *normal = strtok_r(NULL, BLANKS, &save);
+                if (!normal || strcmp(normal, "normal") || !stl_numbers(&save, xyz)) why = "a facet without 'normal X Y Z'";
+            } else if (!strcmp(tok, "vertex")) {
+                if (!facet || nvert == 3) why = "a vertex outside a facet, or a facet of more than 3";
+                else if (!stl_numbers(&save, xyz)) why = "a vertex without 3 numbers";
+                else if (coords_out_of_range(xyz, path, r.line, v, err, errlen)) return -1;
+                v++, nvert++;
+            }
+        }
+    }
+    if (!why && nvert != 3) why = "a facet of other than 3 vertices (truncated file?)", at = facet;
+    if (!why) return 0;
+    snprintf(err, errlen, "%s: line %u: %s", path, at, why);
+    return -1;
+}
+
+int mesh_precheck(const char *ext, const char *data, size_t size, const char *path, char *err, size_t errlen)
+{
+    if (strcmp(ext, "stl") == 0) return stl_check(data, size, path, err, errlen);
+    if (strcmp(ext, "obj") == 0) return obj_check(data, size, path, err, errlen);
+    if (strcmp(ext, "off") == 0) return off_check(data, size, path, err, errlen);
+    if (strcmp(ext, "ply") == 0) return ply_check(data, size, path, err, errlen);
+    return 0;
+}

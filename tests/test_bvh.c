@@ -1,0 +1,336 @@
+/* test_bvh: the BVH kit (accel/bvh/bvh.h).
+ *
+ * Builders (median, binned SAH, incremental insertion in id order and
+ * shuffled) on the bunny, a soup of every primitive kind, a cluster of
+ * tiny triangles inside a few huge ones, identical boxes and the empty
+ * input: the tree passes bvh_check (every primitive in one leaf, every box
+ * containing what is below), leaves respect max_leaf, and on the bunny
+ * SAH's cost is below the median split's. Traversals (depth-first and
+ * heap-ordered, closest and any hit, counting and counting-free) on random
+ * rays (from outside, from inside with a finite tfar, axis-aligned with
+ * +-0 components) give exactly the exhaustive loop's hit distance (the
+ * same primitive but for exact ties), the counting-free ones the counting
+ * ones' answers bit for bit; counters are plausible. A hand-made chain 100
+ * levels deep overflows the 64-entry local stack, and the traversal still
+ * finds the hit in the dropped subtree (the leaf-scan fallback), as it
+ * does with a context stack of the right depth. */
+#include <stdlib.h>
+#include <string.h>
+#include "accel/bvh/bvh.h"
+#include "check.h"
+#include "scenes/scene.h"
+#define PRIMS_TEST_SEED 0xb7b7
+#include "prims_testlib.h"
+
+typedef int (*builder_fn)(bvh_t *, const box3 *, const vec3 *, uint32_t, const bvh_config *);
+
+typedef struct {
+    const char *name;
+    builder_fn build;
+    uint64_t seed; /* insertion: the shuffle */
+} builder_t;
+
+static const builder_t builders[] = {
+    {"median", bvh_build_median, 0},
+    {"sah", bvh_build_sah, 0},
+    {"insert", bvh_build_insert, 0},
+    {"insert-shuffled", bvh_build_insert, 12345},
+};
+#define NBUILDERS (int)(sizeof builders / sizeof builders[0])
+
+static bvh_t build(const builder_t *bd, const prims_t *p, uint32_t max_leaf)
+{
+    bvh_config cfg;
+    bvh_config_defaults(&cfg);
+    cfg.max_leaf = max_leaf;
+    cfg.insert_seed = bd->seed;
+    bvh_t b;
+    CHECK(bd->build(&b, p->bounds, NULL, p->count, &cfg) == 0);
+    char err[256];
+    CHECK_MSG(bvh_check(&b, p->bounds, p->count, err, sizeof err) == 0, "%s: %s", bd->name, err);
+    uint32_t biggest = 0;
+    for (uint32_t i = 0; i < b.nnodes; i++) biggest = b.nodes[i].count > biggest ? b.nodes[i].count : biggest;
+    uint32_t limit = bd->build == bvh_build_insert ? 1 : max_leaf;
+    CHECK_MSG(biggest <= limit, "%s: a leaf of %u primitives, limit %u", bd->name, biggest, limit);
+    return b;
+}
+
+/* The reference: every primitive. */
+static bool exhaustive(const prims_t *p, const ray_t *ray, hit_t *hit, bool shadow)
+{
+    for (uint32_t id = 0; id < p->count; id++) {
+        if (shadow && prim_occluded_fast(p, id, ray)) return true;
+        if (!shadow) prim_intersect_fast(p, id, ray, hit);
+    }
+    return !shadow && hit->prim != HIT_NONE;
+}
+
+static ray_t random_ray(box3 box, int kind)
+{
+    vec3 c = box_center(box), e = box_extent(box);
+    vec3 target = v3_add(box.lo, v3_mul(e, v3(rnd(0, 1), rnd(0, 1), rnd(0, 1))));
+    if (kind == 0) { /* from outside, through a point of the box */
+        vec3 o = v3_add(c, v3_scale(v3_norm(rnd_v3(-1, 1)), 1.5f * box_diagonal(box)));
+        return ray_through(o, target);
+    }
+    if (kind == 1) { /* from inside, a segment */
+        ray_t r = make_ray(target, rnd_v3(-1, 1), 0.0f, 0.3f * box_diagonal(box));
+        return r;
+    }
+    /* axis-aligned from outside, the other components +-0 */
+    int a = (int)(rng_next() % 3);
+    float s = rng_next() % 2 ? 1.0f : -1.0f, zero = rng_next() % 2 ? 0.0f : -0.0f;
+    vec3 d = v3(a == 0 ? s : zero, a == 1 ? s : zero, a == 2 ? s : zero);
+    vec3 o = v3_sub(target, v3_scale(d, box_diagonal(box)));
+    return make_ray(o, d, 0.0f, INFINITY);
+}
+
+typedef bool (*isect_fn)(const bvh_t *, const prims_t *, bvh_scratch *, const ray_t *, hit_t *, counters_t *);
+typedef bool (*occl_fn)(const bvh_t *, const prims_t *, bvh_scratch *, const ray_t *, counters_t *);
+typedef bool (*isect_fast_fn)(const bvh_t *, const prims_t *, bvh_scratch *, const ray_t *, hit_t *);
+typedef bool (*occl_fast_fn)(const bvh_t *, const prims_t *, bvh_scratch *, const ray_t *);
+
+static const struct {
+    const char *name;
+    isect_fn isect;
+    occl_fn occl;
+    isect_fast_fn isect_fast;
+    occl_fast_fn occl_fast;
+} traversals[] = {
+    {"dfs", bvh_intersect_dfs, bvh_occluded_dfs, bvh_intersect_dfs_fast, bvh_occluded_dfs_fast},
+    {"heap", bvh_intersect_heap, bvh_occluded_heap, bvh_intersect_heap_fast, bvh_occluded_heap_fast},
+};
+
+/* The rays of a scene and the exhaustive loop's answers to them. */
+typedef struct {
+    int n;
+    ray_t *rays;
+    hit_t *want;
+    bool *want_occluded;
+} rayref_t;
+
+static rayref_t make_rays(const prims_t *p, int n)
+{
+    rayref_t r = {n, malloc(n * sizeof(ray_t)), malloc(n * sizeof(hit_t)), malloc(n * sizeof(bool))};
+    for (int i = 0; i < n; i++) {
+        r.rays[i] = random_ray(p->box, i % 3);
+        r.want[i] = hit_none(&r.rays[i]);
+        exhaustive(p, &r.rays[i], &r.want[i], false);
+        r.want_occluded[i] = exhaustive(p, &r.rays[i], NULL, true);
+    }
+    return r;
+}
+
+/* Every traversal of tree b against the reference answers. */
+static void check_traversals(const char *scene, const char *builder, const bvh_t *b, const prims_t *p,
+                             const rayref_t *rr)
+{
+    bvh_scratch s;
+    CHECK(bvh_scratch_init(&s, b) == 0);
+    int nrays = rr->n;
+    for (int t = 0; t < 2; t++) {
+        int tdiff = 0, pdiff = 0, odiff = 0, fdiff = 0, hits = 0, occl = 0;
+        counters_t c = {0};
+        for (int i = 0; i < nrays; i++) {
+            const ray_t *ray = &rr->rays[i];
+            hit_t want = rr->want[i], got = hit_none(ray), fast = hit_none(ray), nos = hit_none(ray);
+            bool r = traversals[t].isect(b, p, &s, ray, &got, &c);
+            bool rf = traversals[t].isect_fast(b, p, &s, ray, &fast);
+            traversals[t].isect_fast(b, p, NULL, ray, &nos); /* no scratch */
+            hits += r;
+            tdiff += memcmp(&got.t, &want.t, sizeof got.t) != 0 || r != (want.prim != HIT_NONE);
+            pdiff += got.prim != want.prim;
+            fdiff += rf != r || memcmp(&fast, &got, sizeof got) != 0 || memcmp(&nos, &got, sizeof got) != 0;
+            bool o = traversals[t].occl(b, p, &s, ray, &c), of = traversals[t].occl_fast(b, p, &s, ray);
+            odiff += o != rr->want_occluded[i] || of != o || traversals[t].occl_fast(b, p, NULL, ray) != o;
+            occl += o;
+        }
+        printf("%-8s %-16s %-5s rays %d hits %d occluded %d  tests/ray %.2f box/ray %.2f steps/ray %.2f\n", scene,
+               builder, traversals[t].name, nrays, hits, occl, (double)c.prim_tests / (2 * nrays),
+               (double)c.box_tests / (2 * nrays), (double)c.steps / (2 * nrays));
+        CHECK(hits > nrays / 10);
+        CHECK_MSG(tdiff == 0, "%s %s %s: %d hit distances differ from exhaustive", scene, builder, traversals[t].name, tdiff);
+        CHECK_MSG(pdiff <= nrays / 500 + 1, "%s %s %s: %d primitives differ", scene, builder, traversals[t].name, pdiff);
+        CHECK_MSG(odiff == 0, "%s %s %s: %d occlusion answers differ", scene, builder, traversals[t].name, odiff);
+        CHECK_MSG(fdiff == 0, "%s %s %s: %d fast answers differ", scene, builder, traversals[t].name, fdiff);
+        CHECK(c.box_tests >= (uint64_t)2 * nrays && c.steps > 0 && c.prim_tests > 0);
+        CHECK(c.empty_leaves == 0 && c.mailbox_hits == 0);
+    }
+    bvh_scratch_free(&s);
+}
+
+static void check_scene(const char *name, const prims_t *p, int nrays)
+{
+    rayref_t rr = make_rays(p, nrays);
+    double cost[NBUILDERS];
+    for (int k = 0; k < NBUILDERS; k++) {
+        bvh_t b = build(&builders[k], p, 4);
+        cost[k] = bvh_sah_cost(&b, 1.0, 1.0);
+        accel_stat st[8];
+        int n = bvh_stats(&b, p->count, st, 8);
+        CHECK(n == 5 && strcmp(st[0].name, "nodes") == 0 && st[0].value == b.nnodes - b.nleaves);
+        CHECK(st[4].value == 1.0); /* refs_per_prim: no duplication */
+        CHECK(bvh_memory(&b) == 32 * (size_t)b.nnodes + 4 * (size_t)b.nrefs && b.nnodes == 2 * b.nleaves - 1);
+        box3 bb = bvh_bounds(&b);
+        CHECK(memcmp(&bb, &p->box, sizeof bb) == 0);
+        printf("%-8s %-16s %u prims: %u nodes, %u leaves, depth %u, SAH cost %.1f\n", name, builders[k].name, p->count,
+               b.nnodes, b.nleaves, b.max_depth, cost[k]);
+        check_traversals(name, builders[k].name, &b, p, &rr);
+        bvh_free(&b);
+    }
+    /* SAH beats the median split; insertion stays within twice SAH (a
+     * child chosen by size rather than growth once made it ten times). */
+    CHECK_MSG(cost[1] <= cost[0], "%s: SAH cost %.1f above the median split's %.1f", name, cost[1], cost[0]);
+    CHECK_MSG(cost[2] <= 2 * cost[1] && cost[3] <= 2 * cost[1], "%s: insertion costs %.1f, %.1f against SAH's %.1f", name,
+              cost[2], cost[3], cost[1]);
+    free(rr.rays);
+    free(rr.want);
+    free(rr.want_occluded);
+}
+
+static void add_triangle(prims_t *p, vec3 a, vec3 b, vec3 c)
+{
+    prims_add_triangle(p, prims_add_vertex(p, a), prims_add_vertex(p, b), prims_add_vertex(p, c));
+}
+
+static void finish(prims_t *p)
+{
+    char err[256];
+    if (prims_finish(p, err, sizeof err)) {
+        fprintf(stderr, "prims_finish: %s\n", err);
+        exit(2);
+    }
+}
+
+static void test_soup_and_cluster(void)
+{
+    prims_t p;
+    prims_init(&p);
+    rnd_soup(&p, 1500, 20.0f);
+    finish(&p);
+    check_scene("soup", &p, 3000);
+    prims_free(&p);
+
+    /* A dense cluster of tiny triangles inside a few huge ones: empty
+     * space around a small object, and boxes that overlap everything. */
+    prims_init(&p);
+    for (int i = 0; i < 2000; i++) {
+        vec3 c = rnd_v3(-0.01f, 0.01f);
+        add_triangle(&p, v3_add(c, rnd_v3(-1e-3f, 1e-3f)), v3_add(c, rnd_v3(-1e-3f, 1e-3f)), v3_add(c, rnd_v3(-1e-3f, 1e-3f)));
+    }
+    for (int i = 0; i < 6; i++) add_triangle(&p, rnd_v3(-1000, 1000), rnd_v3(-1000, 1000), rnd_v3(-1000, 1000));
+    finish(&p);
+    check_scene("cluster", &p, 2000);
+    prims_free(&p);
+}
+
+static void test_identical_and_empty(void)
+{
+    prims_t p;
+    prims_init(&p);
+    for (int i = 0; i < 100; i++) add_triangle(&p, v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0));
+    finish(&p);
+    for (int k = 0; k < NBUILDERS; k++) {
+        bvh_t b = build(&builders[k], &p, 4);
+        ray_t ray = ray_through(v3(0.25f, 0.25f, -1.0f), v3(0.25f, 0.25f, 0.0f));
+        hit_t h = hit_none(&ray);
+        CHECK(bvh_intersect_dfs(&b, &p, NULL, &ray, &h, &(counters_t){0}) && h.t == 1.0f);
+        h = hit_none(&ray);
+        CHECK(bvh_intersect_heap_fast(&b, &p, NULL, &ray, &h) && h.t == 1.0f);
+        bvh_free(&b);
+    }
+    prims_free(&p);
+
+    prims_init(&p);
+    finish(&p);
+    for (int k = 0; k < NBUILDERS; k++) {
+        bvh_t b;
+        CHECK(builders[k].build(&b, p.bounds, NULL, 0, NULL) == 0 && b.nnodes == 0);
+        char err[128];
+        CHECK(bvh_check(&b, p.bounds, 0, err, sizeof err) == 0);
+        ray_t ray = ray_through(v3(0, 0, -1), v3(0, 0, 0));
+        hit_t h = hit_none(&ray);
+        counters_t c = {0};
+        CHECK(!bvh_intersect_dfs(&b, &p, NULL, &ray, &h, &c) && !bvh_occluded_heap(&b, &p, NULL, &ray, &c));
+        CHECK(box_is_empty(bvh_bounds(&b)));
+        bvh_free(&b);
+    }
+    prims_free(&p);
+}
+
+/* The chain: N_k = {N_(k+1), leaf(real k)} for k < L - 1, N_(L-1) =
+ * {leaf(decoy), leaf(real L-1)}. Every N's box reaches down to the decoy
+ * near the ray origin, so the depth-first walk always enters N_(k+1) first
+ * and stacks real k: L entries. The reals lie nearer the deeper they are,
+ * so the hit is in a leaf the 64-entry stack had to drop. */
+static void test_overflow(void)
+{
+    enum { L = 100 };
+    prims_t p;
+    prims_init(&p);
+    for (int k = 0; k < L; k++) { /* real k at x = 1000 - k: contains (x, 0.25, 0.25) */
+        float x = 1000.0f - (float)k;
+        add_triangle(&p, v3(x, -1, -1), v3(x, 3, -1), v3(x, -1, 3));
+    }
+    add_triangle(&p, v3(0.5f, -1, -1), v3(0.5f, 1, -1), v3(0.5f, -1, 1)); /* the decoy: its box holds the ray, it does not */
+    finish(&p);
+    bvh_t b;
+    memset(&b, 0, sizeof b);
+    b.nnodes = 1 + 2 * L;
+    b.nodes = calloc(b.nnodes, sizeof *b.nodes);
+    b.refs = malloc((L + 1) * sizeof *b.refs);
+    b.nrefs = L + 1;
+    for (uint32_t i = 0; i <= L; i++) b.refs[i] = i;
+    for (int k = L - 1; k >= 0; k--) {
+        bvh_node *n = &b.nodes[k == 0 ? 0 : 2 * k - 1];
+        uint32_t l = 1 + 2 * (uint32_t)k;
+        b.nodes[l + 1] = (bvh_node){p.bounds[k], (uint32_t)k, 1};
+        if (k == L - 1) b.nodes[l] = (bvh_node){p.bounds[L], L, 1};
+        *n = (bvh_node){box_union(b.nodes[l].box, b.nodes[l + 1].box), l, 0};
+    }
+    b.nleaves = L + 1;
+    b.max_depth = L;
+    char err[256];
+    CHECK_MSG(bvh_check(&b, p.bounds, p.count, err, sizeof err) == 0, "%s", err);
+
+    ray_t ray = make_ray(v3(0, 0.25f, 0.25f), v3(1, 0, 0), 0.0f, INFINITY);
+    hit_t h = hit_none(&ray);
+    counters_t c = {0};
+    CHECK(bvh_intersect_dfs(&b, &p, NULL, &ray, &h, &c)); /* local stack: overflows */
+    CHECK_MSG(h.prim == L - 1 && h.t == 1000.0f - (L - 1), "overflowed walk found %u at %g", h.prim, h.t);
+    counters_t c2 = {0};
+    bvh_scratch s;
+    CHECK(bvh_scratch_init(&s, &b) == 0 && s.stack_cap >= L);
+    h = hit_none(&ray);
+    CHECK(bvh_intersect_dfs(&b, &p, &s, &ray, &h, &c2) && h.prim == L - 1);
+    printf("chain of %d: box tests %llu with the overflow scan, %llu with a deep enough stack\n", L,
+           (unsigned long long)c.box_tests, (unsigned long long)c2.box_tests);
+    CHECK(c.box_tests > c2.box_tests); /* the scan is counted */
+    h = hit_none(&ray);
+    CHECK(bvh_intersect_dfs_fast(&b, &p, NULL, &ray, &h) && h.prim == L - 1);
+    h = hit_none(&ray);
+    CHECK(bvh_intersect_heap(&b, &p, NULL, &ray, &h, &c) && h.prim == L - 1);
+    /* Any hit: the decoy is missed, some real is found either way. */
+    CHECK(bvh_occluded_dfs(&b, &p, NULL, &ray, &c) && bvh_occluded_dfs_fast(&b, &p, &s, &ray));
+    ray_t miss = make_ray(v3(0, 0.25f, 0.25f), v3(1, 0, 0), 0.0f, 10.0f);
+    CHECK(!bvh_occluded_dfs(&b, &p, NULL, &miss, &c) && !bvh_occluded_heap_fast(&b, &p, &s, &miss));
+    bvh_scratch_free(&s);
+    bvh_free(&b);
+    prims_free(&p);
+}
+
+int main(void)
+{
+    test_overflow();
+    test_identical_and_empty();
+    test_soup_and_cluster();
+    char err[512];
+    scene_t *s = scene_load("bunny", err, sizeof err);
+    if (!s) {
+        fprintf(stderr, "cannot load bunny: %s\n", err);
+        return 2;
+    }
+    check_scene("bunny", &s->prims, 3000);
+    scene_free(s);
+    return check_report();
+}
