@@ -10,11 +10,11 @@
  *   without a word), a vertex line short of a number (assimp then reads
  *   garbage), a face reference that is not an index or names no vertex
  *   before it;
- * - OFF: files with 3D vertices (OFF, COFF, NOFF, STOFF ...) completely
- *   (assimp reads missing numbers as 0, and crashes on some faces of COFF
- *   files); the others (4OFF, nOFF) only for counts the file's lines
- *   cannot hold (assimp allocates them first: a 2e9-vertex header is a
- *   12 GB std::bad_alloc);
+ * - OFF: counts the file's lines cannot hold, in every variant and as
+ *   assimp finds them (it allocates them first: a 2e9-vertex header is a
+ *   12 GB std::bad_alloc); files with 3D vertices (OFF, COFF, NOFF, STOFF
+ *   ...) completely (assimp reads missing numbers as 0, and crashes on
+ *   some faces of COFF files);
  * - PLY: a header without its end_header line (assimp loops forever),
  *   element counts the bytes after the header cannot hold;
  * - STL (ASCII): a facet without a normal, of other than 3 vertices, a
@@ -205,23 +205,58 @@ static int obj_check(const char *data, size_t size, const char *path, char *err,
 
 /* -------------------------------------------------------------- OFF */
 
-/* A variant's counts (on the header line after the keyword, else on the
- * next lines) against the lines that follow them: one line per vertex and
- * per face, as assimp reads them. */
-static int off_variant_check(line_reader *r, const char *after_keyword, const char *path, char *err, size_t errlen)
+/* Skip blanks, line ends and '#' comment lines as assimp's OFF reader
+ * does between tokens, counting line ends into *line. */
+static const char *off_skip(const char *p, const char *end, unsigned *line)
 {
-    double cnt[3];
-    const char *l;
-    int n = parse_numbers(after_keyword, cnt, 3, true);
-    for (int tries = 0; tries < 2 && n < 2 && (l = next_line(r)); tries++) /* nOFF: a dimension line first */
-        n = parse_numbers(l, cnt, 3, true);
-    if (n < 2 || cnt[0] < 0 || cnt[1] < 0) return 0; /* assimp will say what is wrong */
-    unsigned counts_line = r->line;
+    while (p < end) {
+        if (*p == '\n') (*line)++, p++;
+        else if (strchr(BLANKS, *p)) p++;
+        else if (*p == '#') while (p < end && *p != '\n') p++;
+        else break;
+    }
+    return p;
+}
+
+/* A count as assimp reads it (strtoul10: leading digits, wrapping at 2^32). */
+static uint32_t off_count(const char **p, const char *end)
+{
+    uint32_t v = 0;
+    for (; *p < end && isdigit((unsigned char)**p); (*p)++) v = v * 10u + (uint32_t)(**p - '0');
+    return v;
+}
+
+/* The counts as assimp's OFF reader finds them (any variant, with or
+ * without the header, which it matches as a prefix: "OFF1 ..." is OFF and
+ * a count 1) against the lines that follow: one a vertex and one a face.
+ * assimp allocates the counts before it reads a line (a 2^31-face header
+ * is a 32 GB allocation). */
+static int off_counts_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
+{
+    const char *end = data + size;
+    unsigned line = 1;
+    const char *p = off_skip(data, end, &line), *q = p;
+    bool dimension = false;
+    if (end - q > 2 && q[0] == 'S' && q[1] == 'T') q += 2;
+    if (end - q > 1 && *q == 'C') q++;
+    if (end - q > 1 && *q == 'N') q++;
+    if (end - q > 1 && *q == '4') q++;
+    if (end - q > 1 && *q == 'n') q++, dimension = true;
+    if (end - q > 3 && strncmp(q, "OFF", 3) == 0) p = q + 3;
+    else dimension = false; /* no header: the counts come first */
+    p = off_skip(p, end, &line);
+    if (dimension) (void)off_count(&p, end), p = off_skip(p, end, &line);
+    uint32_t nv = off_count(&p, end);
+    p = off_skip(p, end, &line);
+    uint32_t nf = off_count(&p, end);
+    unsigned counts_line = line;
+    line_reader r = {memchr(p, '\n', (size_t)(end - p)) ? (const char *)memchr(p, '\n', (size_t)(end - p)) + 1 : end,
+                     end, 0, false, {0}};
     double lines = 0;
-    while (next_line(r)) lines++;
-    if (cnt[0] + cnt[1] > lines) {
-        snprintf(err, errlen, "%s: line %u: declares %.0f vertices and %.0f faces, but %.0f lines follow (truncated or "
-                 "corrupt file?)", path, counts_line, cnt[0], cnt[1], lines);
+    while (next_line(&r)) lines++;
+    if ((double)nv + nf > lines) {
+        snprintf(err, errlen, "%s: line %u: declares %u vertices and %u faces, but %.0f lines follow (truncated or "
+                 "corrupt file?)", path, counts_line, nv, nf, lines);
         return -1;
     }
     return 0;
@@ -238,10 +273,10 @@ static bool off_xyz_keyword(const char *kw, size_t n)
     return n == 3 && strncmp(kw, "OFF", 3) == 0;
 }
 
-/* OFF with 3D vertices ([ST][C][N]OFF), line by line as assimp reads it:
- * the counts, NV lines of at least 3 numbers, NF lines of "K i1 .. iK"
- * with every index in range; extra numbers (colours) are allowed. Other
- * variants (4OFF, nOFF) only have their counts checked. */
+/* OFF with 3D vertices and its keyword whole ([ST][C][N]OFF), line by
+ * line as assimp reads it: the counts, NV lines of at least 3 numbers, NF
+ * lines of "K i1 .. iK" with every index in range; extra numbers (colours)
+ * are allowed. Any other file only has its counts checked (above). */
 static int off_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
 {
     line_reader r = {data, data + size, 0, false, {0}};
@@ -249,8 +284,7 @@ static int off_check(const char *data, size_t size, const char *path, char *err,
     if (!l) return 0; /* assimp will say what is wrong */
     l += strspn(l, BLANKS);
     size_t kw = strcspn(l, BLANKS);
-    if (kw < 3 || strncmp(l + kw - 3, "OFF", 3) != 0) return 0;
-    if (!off_xyz_keyword(l, kw)) return off_variant_check(&r, l + kw, path, err, errlen);
+    if (!off_xyz_keyword(l, kw)) return off_counts_check(data, size, path, err, errlen);
     double cnt[3];
     int n = parse_numbers(l + kw, cnt, 3, true);
     if (n == 0) {
@@ -355,9 +389,15 @@ static int ply_check(const char *data, size_t size, const char *path, char *err,
         }
         if (nw >= 2 && strcmp(w[0], "format") == 0) {
             ascii = strcmp(w[1], "ascii") == 0;
-        } else if (nw >= 3 && strcmp(w[0], "element") == 0 && nel < (int)(sizeof el / sizeof el[0])) {
-            double c = 0; /* the leading digits, as assimp reads a count ("5z" is 5), without its 32-bit wrap */
-            for (const char *d = w[2]; isdigit((unsigned char)*d); d++) c = 10 * c + (*d - '0');
+        } else if (nw >= 2 && strcmp(w[0], "element") == 0 && nel < (int)(sizeof el / sizeof el[0])) {
+            /* The count: the leading digits, as assimp reads one ("5z" is 5), without its 32-bit wrap, of
+             * whichever word it takes them from (it took "element 18446744073709551615 vertex" as 2^32 - 1). */
+            double c = 0;
+            for (int k = 1; k < nw; k++) {
+                double x = 0;
+                for (const char *d = w[k]; isdigit((unsigned char)*d); d++) x = 10 * x + (*d - '0');
+                c = x > c ? x : c;
+            }
             el[nel++] = (ply_element){c, r.line, 0};
         } else if (nw >= 3 && strcmp(w[0], "property") == 0 && nel > 0) {
             bool list = strcmp(w[1], "list") == 0;

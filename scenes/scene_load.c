@@ -33,14 +33,10 @@ static bool parse_int(const char *s, int lo, int hi, int *out)
 
 /* spd:NAME, spd:NAME:SIZE, spd:NAME:t[RES], spd:NAME:SIZE:t[RES] into its
  * generator, size and resolution (0: true primitives); NULL with the
- * reason when it is none of them (an unknown generator: scene_spd() words
- * that error, with the list of generators, so *unknown gets the name). */
-static const spd_generator *parse_spd(const char *name, int *size, int *res, char *unknown, size_t unknownlen,
-                                      char *err, size_t errlen)
+ * reason when it is none of them (an unknown or empty generator name too). */
+static const spd_generator *parse_spd(const char *name, int *size, int *res, char *err, size_t errlen)
 {
     char buf[256];
-    unknown[0] = '\0';
-    err[0] = '\0'; /* stays empty for an unknown generator, even an empty name */
     if (snprintf(buf, sizeof buf, "%s", name + 4) >= (int)sizeof buf) {
         snprintf(err, errlen, "%.64s...: name too long", name);
         return NULL;
@@ -55,7 +51,7 @@ static const spd_generator *parse_spd(const char *name, int *size, int *res, cha
         }
     const spd_generator *g = spd_generator_find(part[0]);
     if (!g) {
-        snprintf(unknown, unknownlen, "%s", part[0]);
+        (void)scene_spd(name, part[0], 0, 0, err, errlen); /* words the error, with the list of generators */
         return NULL;
     }
     *size = g->default_size, *res = 0;
@@ -90,10 +86,8 @@ static const spd_generator *parse_spd(const char *name, int *size, int *res, cha
 static scene_t *load_spd(const char *name, char *err, size_t errlen)
 {
     int size, res;
-    char unknown[256];
-    const spd_generator *g = parse_spd(name, &size, &res, unknown, sizeof unknown, err, errlen);
-    if (!g) return err[0] ? NULL : scene_spd(name, unknown, 0, 0, err, errlen);
-    return scene_spd(name, g->name, size, res, err, errlen);
+    const spd_generator *g = parse_spd(name, &size, &res, err, errlen);
+    return g ? scene_spd(name, g->name, size, res, err, errlen) : NULL;
 }
 
 /* A file: NFF by its extension (also under .gz/.xz/.bz2), else assimp. */
@@ -236,19 +230,20 @@ int scene_check(const char *name, char *err, size_t errlen)
     view_part parts[MAX_VIEWS];
     if (split_views(name ? name : "", base, sizeof base, parts, err, errlen) < 0) return -1;
     if (catalogue_has(base) && !catalogue_locate(base, file, sizeof file, err, errlen)) return -1;
+    int size, res; /* a generator's name, size and resolution, as load_spd reads them */
+    if (strncmp(base, "spd:", 4) == 0 && !parse_spd(base, &size, &res, err, errlen)) return -1;
     return 0;
 }
 
 bool scene_generated(const char *name, uint64_t *prims)
 {
-    char base[1024], err[512], unknown[256];
+    char base[1024], err[512];
     view_part parts[MAX_VIEWS];
     *prims = 0;
     if (split_views(name ? name : "", base, sizeof base, parts, err, sizeof err) < 0) return false;
     if (!strcmp(base, "gen:room") || !strcmp(base, "gen:room:empty")) return true;
     int size, res;
-    const spd_generator *g = strncmp(base, "spd:", 4) ? NULL : parse_spd(base, &size, &res, unknown, sizeof unknown,
-                                                                          err, sizeof err);
+    const spd_generator *g = strncmp(base, "spd:", 4) ? NULL : parse_spd(base, &size, &res, err, sizeof err);
     if (g) *prims = spd_prims(g, size, res);
     return g != NULL;
 }

@@ -125,8 +125,13 @@ static void test_lines(void)
          ": line 6: face 0 has 30 vertices"},
         {"count.ply", "ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\nend_header\n0\n",
          ": line 3: declares 2000000000 elements"},
+        /* fuzz_mesh's first out-of-memory: assimp took "OFF1" for OFF and a count of 1, then 2^31 faces */
+        {"glued.off", "OFF1  10737418240 0\n 3\n", ": line 1: declares 1 vertices and 2147483648 faces"},
         /* fuzz_mesh's first timeout: assimp read a count of 2^64 - 1 ("5z" is 5 to it) */
         {"wrap.ply", "ply\nformat ascii 1.0\nelement vertex 18446744073709551615z\nelement face 1\nend_header\n0 0 0\n",
+         ": line 3: declares 18446744073709551616 elements"},
+        /* and its second out-of-memory: the count before the name, 2^32 - 1 to assimp */
+        {"order.ply", "ply\nformat ascii 1.0\nelement 18446744073709551615 vertex 8\nproperty float x\nend_header\n0\n",
          ": line 3: declares 18446744073709551616 elements"},
         {"facet.stl", "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid t\n",
          ": line 2: a facet of other than 3 vertices"},

@@ -1,0 +1,52 @@
+/* fuzz_params: the --param parser (accel/params.c params_set) and every
+ * accelerator's reading of its values at build time, on any text. Each
+ * line is KEY=VALUE, set on every registered accelerator's table (unknown
+ * keys are refused there), or ACCEL.KEY=VALUE, set on that one only, as
+ * --param gives it. Every accelerator is then built with what was set,
+ * over the fixed scene, and traced (exercise.c). */
+#include <stdlib.h>
+#include <string.h>
+#include "exercise.h"
+
+int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size);
+
+#define MAX_ACCELS 32
+
+int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size)
+{
+    accel_params params[MAX_ACCELS];
+    int n = 0;
+    for (; accel_registry[n] && n < MAX_ACCELS; n++) {
+        params_defaults(&params[n], accel_registry[n]->params);
+        params[n].threads = 1;
+    }
+    char *text = malloc(size + 1);
+    if (!text) return 0;
+    memcpy(text, data, size);
+    text[size] = '\0';
+    char err[512], *save = NULL;
+    for (char *line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
+        char *eq = strchr(line, '='), *key = line;
+        if (!eq) continue;
+        *eq = '\0';
+        char *dot = strchr(key, '.');
+        const struct accel_ops *only = NULL;
+        if (dot) { /* ACCEL.KEY when ACCEL is one; else the dot is part of the key */
+            *dot = '\0';
+            only = accel_find(key);
+            if (only) key = dot + 1;
+            else *dot = '.';
+        }
+        for (int i = 0; i < n; i++)
+            if (!only || accel_registry[i] == only) (void)params_set(&params[i], key, eq + 1, err, sizeof err);
+    }
+    free(text);
+    int nsets;
+    rayset_t *const *sets = fuzz_scene_rays(&nsets);
+    for (int i = 0; i < n; i++) {
+        char canon[1024];
+        params_format(&params[i], canon, sizeof canon);
+        fuzz_accel(accel_registry[i], fuzz_scene(), &params[i], sets, nsets);
+    }
+    return 0;
+}

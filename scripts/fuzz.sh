@@ -1,0 +1,72 @@
+#!/bin/bash
+# fuzz.sh [SECONDS]: build the libFuzzer harnesses of fuzz/ and run each for
+# SECONDS (default 60). Exits non-zero when any of them finds a crash, a
+# sanitizer report (ASan, UBSan), a leak (LSan), a timeout (one input over
+# 10 s) or runs out of memory (2 GB): libFuzzer leaves the input that did
+# it in build-fuzz/artifacts/NAME/ and prints how to replay it.
+#
+# The harnesses need clang (installed from Debian when missing); the normal
+# build does not. The project's static libraries are built by meson with
+# clang in their own folder, build-fuzz/, instrumented with
+# -fsanitize=fuzzer-no-link,address,undefined; the harnesses (fuzz/*.c) are
+# compiled and linked against them here. Seeds are fuzz/corpus/NAME/ and
+# fuzz/NAME.dict, in the repository; what a run adds to the corpus goes to
+# build-fuzz/corpus/NAME/, never into the repository.
+#
+# Replay one input: build-fuzz/fuzz/fuzz_NAME FILE
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SECONDS_EACH=${1:-60}
+case "$SECONDS_EACH" in '' | *[!0-9]*) echo "usage: scripts/fuzz.sh [SECONDS]" >&2; exit 2 ;; esac
+HARNESSES=(nff mesh rays params scenes)
+B=build-fuzz
+
+scripts/setup.sh > /dev/null # the packages and libraries every build needs
+if ! command -v clang > /dev/null; then
+    SUDO=""
+    [ "$(id -u)" = 0 ] || SUDO=sudo
+    echo "fuzz: installing clang"
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends clang > /dev/null
+fi
+
+# The project's libraries, instrumented for coverage and the sanitizers.
+if [ ! -f $B/build.ninja ]; then
+    CC=clang CXX=clang++ meson setup $B --buildtype=debugoptimized -Db_sanitize=address,undefined -Db_lundef=false \
+        -Dc_args=-fsanitize=fuzzer-no-link -Dcpp_args=-fsanitize=fuzzer-no-link > /dev/null
+fi
+LIBS=(harness/libharness.a accel/libaccel.a accel/common/libaccel_common.a accel/bvh/libaccel_bvh.a
+      scenes/libscenes.a prims/libprims.a)
+ninja -C $B "${LIBS[@]}" > /dev/null
+
+# The harnesses, linked as meson links accelbench (the same libraries and
+# system ones), with libFuzzer's main.
+mkdir -p $B/fuzz
+SYSLIBS=$(pkg-config --libs assimp libarchive libpng)
+for h in "${HARNESSES[@]}"; do
+    clang++ -x c -std=gnu11 -g -O1 -D_GNU_SOURCE -ffp-contract=off -Wall -Wextra \
+        -fsanitize=fuzzer,address,undefined -I. -o $B/fuzz/fuzz_$h fuzz/fuzz_$h.c fuzz/exercise.c \
+        -x none -Wl,--start-group "${LIBS[@]/#/$B/}" -Wl,--end-group $SYSLIBS -lembree3 -lgmp -lmpfr -lm -pthread
+done
+
+# Leaks inside Embree, TBB and assimp only are suppressed (fuzz/lsan.supp says why); UBSan stops at its first report.
+export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+export LSAN_OPTIONS=suppressions=$PWD/fuzz/lsan.supp
+failed=()
+for h in "${HARNESSES[@]}"; do
+    mkdir -p $B/corpus/$h $B/artifacts/$h
+    log=$B/fuzz/fuzz_$h.log
+    rc=0
+    $B/fuzz/fuzz_$h -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+        -dict=fuzz/$h.dict -artifact_prefix=$B/artifacts/$h/ $B/corpus/$h fuzz/corpus/$h > "$log" 2>&1 || rc=$?
+    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+    rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")
+    if [ "$rc" = 0 ]; then
+        echo "fuzz_$h: ${runs:-?} executions in ${SECONDS_EACH} s (${rate:-?}/s), no crash, leak or timeout"
+    else
+        echo "fuzz_$h: FAILED (exit $rc) after ${runs:-?} executions; the log is $log:" >&2
+        grep -E 'ERROR|WARNING|SUMMARY|runtime error|Test unit written|fuzz:' "$log" | head -20 >&2
+        failed+=("$h")
+    fi
+done
+[ ${#failed[@]} = 0 ] || { echo "fuzz: ${failed[*]} failed" >&2; exit 1; }
