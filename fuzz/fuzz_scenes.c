@@ -1,7 +1,7 @@
 /* fuzz_scenes: the --scenes names (scenes/scene_load.c scene_check, its
  * views through scenes/view.c, the sets of scene_set_expand) on any text
  * up to its first NUL or newline. A name scene_check accepts that names a
- * generated scene of at most 20000 primitives is also loaded, with its
+ * generated scene of at most 5000 primitives is also loaded, with its
  * views, and built and traced by every accelerator (exercise.c); names of
  * files are only checked, never read (the harness stays hermetic and
  * fast). */
@@ -12,7 +12,7 @@
 
 int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size);
 
-#define MAX_GENERATED_PRIMS 20000
+#define MAX_GENERATED_PRIMS 5000
 
 int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size)
 {

@@ -15,8 +15,8 @@
  *   12 GB std::bad_alloc); files with 3D vertices (OFF, COFF, NOFF, STOFF
  *   ...) completely (assimp reads missing numbers as 0, and crashes on
  *   some faces of COFF files);
- * - PLY: a header without its end_header line (assimp loops forever),
- *   element counts the bytes after the header cannot hold;
+ * - PLY: counts no file could hold, a header without end_header, an
+ *   ASCII line short of its numbers (mesh_check_ply.c);
  * - STL (ASCII): a facet without a normal, of other than 3 vertices, a
  *   number missing, a solid without facets (assimp throws, and leaks);
  * - OBJ, OFF and ASCII STL vertices outside the scene range
@@ -34,20 +34,10 @@
 #include <string.h>
 #include <strings.h>
 
-/* ------------------------------------------------------------ lines */
+/* ------------------------------------------------------------ lines:
+ * the helpers every format's check shares (mesh_check.h) */
 
-#define BLANKS " \t\r\f\v"
-
-typedef struct {
-    const char *p, *end;
-    unsigned line;   /* number of the line last returned, 1-based */
-    bool cut;        /* the line last returned was longer than buf (its tail dropped) */
-    char buf[4096];  /* assimp's OFF line limit too */
-} line_reader;
-
-/* The next line that is not blank once its '#' comment is removed; NULL at
- * the end of the data. */
-static const char *next_line(line_reader *r)
+const char *mesh_next_line(mesh_lines *r)
 {
     while (r->p < r->end) {
         const char *eol = memchr(r->p, '\n', (size_t)(r->end - r->p));
@@ -61,38 +51,31 @@ static const char *next_line(line_reader *r)
         r->line++;
         char *hash = strchr(r->buf, '#');
         if (hash) *hash = '\0';
-        if (r->buf[strspn(r->buf, BLANKS)]) return r->buf;
+        if (r->buf[strspn(r->buf, MESH_BLANKS)]) return r->buf;
     }
     return NULL;
 }
 
-/* Parse up to max whole numbers (integers when ints) from s; returns how
- * many parsed before something that is not a number. */
-static int parse_numbers(const char *s, double *v, int max, bool ints)
+int mesh_numbers(const char *s, double *v, int max, bool ints)
 {
     int n = 0;
     while (n < max) {
         char *e;
         double x = ints ? (double)strtol(s, &e, 10) : strtod(s, &e);
-        if (e == s || (*e && !strchr(BLANKS, *e))) break;
+        if (e == s || (*e && !strchr(MESH_BLANKS, *e))) break;
         v[n++] = x;
         s = e;
     }
     return n;
 }
 
-/* Whether line l starts with the keyword kw followed by a blank or its end. */
-static bool keyword(const char *l, const char *kw)
+bool mesh_keyword(const char *l, const char *kw)
 {
     size_t n = strlen(kw);
-    return strncmp(l, kw, n) == 0 && (!l[n] || strchr(BLANKS, l[n]));
+    return strncmp(l, kw, n) == 0 && (!l[n] || strchr(MESH_BLANKS, l[n]));
 }
 
-/* The ranges every scene lies in (scene.h), for vertex v (the format's own
- * numbering) on a line: -1 with "PATH: line L: vertex V coordinate X ...".
- * NaN and inf pass: assimp reads them as such and the loader's own check
- * says so. */
-static int coords_out_of_range(const double *xyz, const char *path, unsigned line, uint32_t v, char *err, size_t errlen)
+int mesh_coords_check(const double *xyz, const char *path, unsigned line, uint32_t v, char *err, size_t errlen)
 {
     for (int k = 0; k < 3; k++)
         if (isfinite(xyz[k]) && !(fabs(xyz[k]) <= SCENE_COORD_MAX)) {
@@ -131,7 +114,7 @@ static int obj_face(char *refs, bool cut, uint32_t nv, const char *path, unsigne
 {
     int n = 0;
     char *save = NULL;
-    for (char *tok = strtok_r(refs, BLANKS, &save); tok; tok = strtok_r(NULL, BLANKS, &save), n++) {
+    for (char *tok = strtok_r(refs, MESH_BLANKS, &save); tok; tok = strtok_r(NULL, MESH_BLANKS, &save), n++) {
         long v;
         if (cut && !save[0]) break; /* the last token of a cut line may be cut too */
         if (!obj_ref(tok, &v)) {
@@ -154,9 +137,9 @@ static int obj_face(char *refs, bool cut, uint32_t nv, const char *path, unsigne
 
 /* One logical line into out: a line ending in '\' continues on the next,
  * as assimp reads it. NULL at the end; *first is its first line's number. */
-static char *obj_line(line_reader *r, char *out, size_t outlen, unsigned *first, bool *cut)
+static char *obj_line(mesh_lines *r, char *out, size_t outlen, unsigned *first, bool *cut)
 {
-    const char *l = next_line(r);
+    const char *l = mesh_next_line(r);
     if (!l) return NULL;
     *first = r->line;
     *cut = r->cut;
@@ -167,36 +150,36 @@ static char *obj_line(line_reader *r, char *out, size_t outlen, unsigned *first,
         memcpy(out + n, l, k);
         n += k;
         out[n] = '\0';
-        while (n && strchr(BLANKS, out[n - 1])) out[--n] = '\0';
+        while (n && strchr(MESH_BLANKS, out[n - 1])) out[--n] = '\0';
         if (!n || out[n - 1] != '\\' || *cut) return out;
         out[n - 1] = ' ';
-        if (!(l = next_line(r))) return out;
+        if (!(l = mesh_next_line(r))) return out;
         *cut = *cut || r->cut;
     }
 }
 
 static int obj_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
 {
-    line_reader r = {data, data + size, 0, false, {0}};
+    mesh_lines r = {data, data + size, 0, false, {0}};
     uint32_t nv = 0;
     char buf[8192];
     unsigned line;
     bool cut;
     for (char *l; (l = obj_line(&r, buf, sizeof buf, &line, &cut));) {
-        l += strspn(l, BLANKS);
-        if (keyword(l, "v")) {
+        l += strspn(l, MESH_BLANKS);
+        if (mesh_keyword(l, "v")) {
             double xyz[3];
-            if (parse_numbers(l + 1, xyz, 3, false) < 3) {
+            if (mesh_numbers(l + 1, xyz, 3, false) < 3) {
                 snprintf(err, errlen, "%s: line %u: vertex %u needs 3 coordinates (truncated file?)", path, line, nv + 1);
                 return -1;
             }
-            if (coords_out_of_range(xyz, path, line, nv + 1, err, errlen)) return -1;
+            if (mesh_coords_check(xyz, path, line, nv + 1, err, errlen)) return -1;
             if (nv == UINT32_MAX) {
                 snprintf(err, errlen, "%s: line %u: more than 2^32 - 1 vertices", path, line);
                 return -1;
             }
             nv++;
-        } else if (keyword(l, "f") && obj_face(l + 1, cut, nv, path, line, err, errlen)) {
+        } else if (mesh_keyword(l, "f") && obj_face(l + 1, cut, nv, path, line, err, errlen)) {
             return -1;
         }
     }
@@ -211,7 +194,7 @@ static const char *off_skip(const char *p, const char *end, unsigned *line)
 {
     while (p < end) {
         if (*p == '\n') (*line)++, p++;
-        else if (strchr(BLANKS, *p)) p++;
+        else if (strchr(MESH_BLANKS, *p)) p++;
         else if (*p == '#') while (p < end && *p != '\n') p++;
         else break;
     }
@@ -250,10 +233,10 @@ static int off_counts_check(const char *data, size_t size, const char *path, cha
     p = off_skip(p, end, &line);
     uint32_t nf = off_count(&p, end);
     unsigned counts_line = line;
-    line_reader r = {memchr(p, '\n', (size_t)(end - p)) ? (const char *)memchr(p, '\n', (size_t)(end - p)) + 1 : end,
+    mesh_lines r = {memchr(p, '\n', (size_t)(end - p)) ? (const char *)memchr(p, '\n', (size_t)(end - p)) + 1 : end,
                      end, 0, false, {0}};
     double lines = 0;
-    while (next_line(&r)) lines++;
+    while (mesh_next_line(&r)) lines++;
     if ((double)nv + nf > lines) {
         snprintf(err, errlen, "%s: line %u: declares %u vertices and %u faces, but %.0f lines follow (truncated or "
                  "corrupt file?)", path, counts_line, nv, nf, lines);
@@ -279,20 +262,20 @@ static bool off_xyz_keyword(const char *kw, size_t n)
  * are allowed. Any other file only has its counts checked (above). */
 static int off_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
 {
-    line_reader r = {data, data + size, 0, false, {0}};
-    const char *l = next_line(&r);
+    mesh_lines r = {data, data + size, 0, false, {0}};
+    const char *l = mesh_next_line(&r);
     if (!l) return 0; /* assimp will say what is wrong */
-    l += strspn(l, BLANKS);
-    size_t kw = strcspn(l, BLANKS);
+    l += strspn(l, MESH_BLANKS);
+    size_t kw = strcspn(l, MESH_BLANKS);
     if (!off_xyz_keyword(l, kw)) return off_counts_check(data, size, path, err, errlen);
     double cnt[3];
-    int n = parse_numbers(l + kw, cnt, 3, true);
+    int n = mesh_numbers(l + kw, cnt, 3, true);
     if (n == 0) {
-        if (!(l = next_line(&r))) {
+        if (!(l = mesh_next_line(&r))) {
             snprintf(err, errlen, "%s: ends after the OFF header, with no counts", path);
             return -1;
         }
-        n = parse_numbers(l, cnt, 3, true);
+        n = mesh_numbers(l, cnt, 3, true);
     }
     if (n < 2 || cnt[0] < 0 || cnt[1] < 0 || cnt[0] > UINT32_MAX || cnt[1] > UINT32_MAX) {
         snprintf(err, errlen, "%s: line %u: expected the vertex and face counts", path, r.line);
@@ -301,23 +284,23 @@ static int off_check(const char *data, size_t size, const char *path, char *err,
     uint32_t nv = (uint32_t)cnt[0], nf = (uint32_t)cnt[1];
     for (uint32_t v = 0; v < nv; v++) {
         double xyz[3];
-        if (!(l = next_line(&r))) {
+        if (!(l = mesh_next_line(&r))) {
             snprintf(err, errlen, "%s: ends after %u of %u vertices (truncated file?)", path, v, nv);
             return -1;
         }
-        if (parse_numbers(l, xyz, 3, false) < 3) {
+        if (mesh_numbers(l, xyz, 3, false) < 3) {
             snprintf(err, errlen, "%s: line %u: vertex %u needs 3 coordinates", path, r.line, v);
             return -1;
         }
-        if (coords_out_of_range(xyz, path, r.line, v, err, errlen)) return -1;
+        if (mesh_coords_check(xyz, path, r.line, v, err, errlen)) return -1;
     }
     for (uint32_t f = 0; f < nf; f++) {
         double idx[11];
-        if (!(l = next_line(&r))) {
+        if (!(l = mesh_next_line(&r))) {
             snprintf(err, errlen, "%s: ends after %u of %u faces (truncated file?)", path, f, nf);
             return -1;
         }
-        int got = parse_numbers(l, idx, 11, true);
+        int got = mesh_numbers(l, idx, 11, true);
         if (got < 1 || idx[0] < 1) {
             snprintf(err, errlen, "%s: line %u: face %u needs a vertex count of at least 1", path, r.line, f);
             return -1;
@@ -340,74 +323,6 @@ static int off_check(const char *data, size_t size, const char *path, char *err,
     return 0;
 }
 
-/* -------------------------------------------------------------- PLY */
-
-/* Bytes of a PLY scalar type, 0 for an unknown one. */
-static unsigned ply_type_size(const char *t)
-{
-    static const struct { const char *name; unsigned size; } types[] = {
-        {"char", 1}, {"uchar", 1}, {"int8", 1}, {"uint8", 1}, {"short", 2}, {"ushort", 2}, {"int16", 2},
-        {"uint16", 2}, {"int", 4}, {"uint", 4}, {"int32", 4}, {"uint32", 4}, {"float", 4}, {"float32", 4},
-        {"double", 8}, {"float64", 8}};
-    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
-        if (strcmp(t, types[i].name) == 0) return types[i].size;
-    return 0;
-}
-
-typedef struct {
-    double count;    /* as declared */
-    unsigned line;   /* of its "element" line */
-    unsigned least;  /* bytes one instance takes at least */
-} ply_element;
-
-/* The header: end_header must come, and every element's declared count
- * must fit in the bytes after it at the least each instance takes (ASCII:
- * a digit and a blank per property; binary: its scalars, a list's count).
- * Lines are read as assimp reads them; an element's properties follow it. */
-static int ply_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
-{
-    line_reader r = {data, data + size, 0, false, {0}};
-    bool ascii = true;
-    ply_element el[64];
-    int nel = 0;
-    for (const char *l; (l = next_line(&r));) {
-        l += strspn(l, BLANKS);
-        char w[4][64] = {{0}};
-        int nw = sscanf(l, "%63s %63s %63s %63s", w[0], w[1], w[2], w[3]);
-        if (keyword(l, "end_header")) {
-            double bytes = (double)(r.end - r.p);
-            for (int i = 0; i < nel; i++) {
-                double need = el[i].count * (el[i].least ? el[i].least : 1);
-                if (need > bytes) {
-                    snprintf(err, errlen, "%s: line %u: declares %.0f elements, which need at least %.0f bytes; %.0f "
-                             "follow the header (truncated or corrupt file?)", path, el[i].line, el[i].count, need, bytes);
-                    return -1;
-                }
-                bytes -= need;
-            }
-            return 0;
-        }
-        if (nw >= 2 && strcmp(w[0], "format") == 0) {
-            ascii = strcmp(w[1], "ascii") == 0;
-        } else if (nw >= 2 && strcmp(w[0], "element") == 0 && nel < (int)(sizeof el / sizeof el[0])) {
-            /* The count: the leading digits, as assimp reads one ("5z" is 5), without its 32-bit wrap, of
-             * whichever word it takes them from (it took "element 18446744073709551615 vertex" as 2^32 - 1). */
-            double c = 0;
-            for (int k = 1; k < nw; k++) {
-                double x = 0;
-                for (const char *d = w[k]; isdigit((unsigned char)*d); d++) x = 10 * x + (*d - '0');
-                c = x > c ? x : c;
-            }
-            el[nel++] = (ply_element){c, r.line, 0};
-        } else if (nw >= 3 && strcmp(w[0], "property") == 0 && nel > 0) {
-            bool list = strcmp(w[1], "list") == 0;
-            el[nel - 1].least += ascii ? 2 : ply_type_size(w[1 + list]);
-        }
-    }
-    snprintf(err, errlen, "%s: the PLY header has no end_header line (truncated file?)", path);
-    return -1;
-}
-
 /* -------------------------------------------------------------- STL */
 
 /* A number as assimp's fast_atoreal_move takes it (a sign, then a digit or
@@ -427,7 +342,7 @@ static bool stl_number(const char *tok, double *x)
 static bool stl_numbers(char **save, double *xyz)
 {
     for (int k = 0; k < 3; k++) {
-        const char *tok = strtok_r(NULL, BLANKS, save);
+        const char *tok = strtok_r(NULL, MESH_BLANKS, save);
         if (!tok || !stl_number(tok, &xyz[k])) return false;
     }
     return true;
@@ -445,19 +360,19 @@ static int stl_check(const char *data, size_t size, const char *path, char *err,
 {
     uint32_t n;
     if (size >= 84 && (memcpy(&n, data + 80, 4), 84 + 50 * (uint64_t)n == size)) return 0;
-    const char *p = data + strspn(data, BLANKS "\n");
+    const char *p = data + strspn(data, MESH_BLANKS "\n");
     if ((size_t)(p - data) + 5 > size || strncmp(p, "solid", 5) != 0) return 0;
-    line_reader r = {data, data + size, 0, false, {0}};
+    mesh_lines r = {data, data + size, 0, false, {0}};
     unsigned facet = 0;             /* the line of the open facet, 0 before the first */
     int nvert = 3;                  /* vertices of the open facet */
     uint32_t v = 0;                 /* vertices so far */
     const char *why = NULL;
     unsigned at = 0; /* the line the message names */
-    for (char *l; !why && (l = (char *)next_line(&r));) {
+    for (char *l; !why && (l = (char *)mesh_next_line(&r));) {
         at = r.line;
         char *save = NULL;
         double xyz[3];
-        for (char *tok = strtok_r(l, BLANKS, &save); tok && !why; tok = strtok_r(NULL, BLANKS, &save)) {
+        for (char *tok = strtok_r(l, MESH_BLANKS, &save); tok && !why; tok = strtok_r(NULL, MESH_BLANKS, &save)) {
             bool end = strncmp(tok, "endsolid", 8) == 0;
             if ((end || !strcmp(tok, "facet")) && nvert != 3) {
                 why = "a facet of other than 3 vertices", at = facet;
@@ -468,12 +383,12 @@ static int stl_check(const char *data, size_t size, const char *path, char *err,
                 break; /* and its name */
             } else if (!strcmp(tok, "facet")) {
                 facet = r.line, nvert = 0;
-                const char *normal = strtok_r(NULL, BLANKS, &save);
+                const char *normal = strtok_r(NULL, MESH_BLANKS, &save);
                 if (!normal || strcmp(normal, "normal") || !stl_numbers(&save, xyz)) why = "a facet without 'normal X Y Z'";
             } else if (!strcmp(tok, "vertex")) {
                 if (!facet || nvert == 3) why = "a vertex outside a facet, or a facet of more than 3";
                 else if (!stl_numbers(&save, xyz)) why = "a vertex without 3 numbers";
-                else if (coords_out_of_range(xyz, path, r.line, v, err, errlen)) return -1;
+                else if (mesh_coords_check(xyz, path, r.line, v, err, errlen)) return -1;
                 v++, nvert++;
             }
         }
@@ -489,6 +404,6 @@ int mesh_precheck(const char *ext, const char *data, size_t size, const char *pa
     if (strcmp(ext, "stl") == 0) return stl_check(data, size, path, err, errlen);
     if (strcmp(ext, "obj") == 0) return obj_check(data, size, path, err, errlen);
     if (strcmp(ext, "off") == 0) return off_check(data, size, path, err, errlen);
-    if (strcmp(ext, "ply") == 0) return ply_check(data, size, path, err, errlen);
+    if (strcmp(ext, "ply") == 0) return mesh_check_ply(data, size, path, err, errlen);
     return 0;
 }

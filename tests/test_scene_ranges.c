@@ -133,6 +133,15 @@ static void test_lines(void)
         /* and its second out-of-memory: the count before the name, 2^32 - 1 to assimp */
         {"order.ply", "ply\nformat ascii 1.0\nelement 18446744073709551615 vertex 8\nproperty float x\nend_header\n0\n",
          ": line 3: declares 18446744073709551616 elements"},
+        /* and its third: a face list of 1.2e22 items (80 s and 21 GB in assimp before std::bad_alloc) */
+        {"list.ply", "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                     "12222222222222222222222 0 0\n", ": line 6: 'face' element 0 needs"},
+        /* a list split over two lines: assimp read the next line's numbers as this one's */
+        {"split.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n2\n",
+         ": line 13: 'face' element 0 needs 4 numbers, the line holds 3"},
+        /* fuzz_mesh's crash and hang in assimp: a vertical tab after end_header */
+        {"vt.ply", "ply\nformat ascii 1.0\nend_header\v1\n", ": line 3: byte 0x0b in the PLY header"},
         {"facet.stl", "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid t\n",
          ": line 2: a facet of other than 3 vertices"},
     };
