@@ -115,6 +115,13 @@ struct accel_ops {
      * each, NULL-terminated (or NULL): the conformance suite
      * (tests/test_accels.c) runs every one of them. */
     const char *const *variants;
+    /* Whether this built instance's answers or counters depend on the
+     * order its rays are traced in, when the table's flags do not say
+     * ACCEL_MUTATES: a setting that keeps per-thread history (grid's rayid
+     * and mtf), so that which rays each thread happened to trace before
+     * changes the counters from run to run. NULL: never. The harness then
+     * traces it on one thread, as a mutating one (accel_serial). */
+    bool (*order_dependent)(const accel *a);
 };
 
 /* The base of every accelerator object. */
@@ -136,6 +143,9 @@ accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const acce
  * nothing in the others). */
 bool accel_resets(const accel *a);
 void accel_reset(accel *a);
+/* Whether a must be traced on one thread: ACCEL_MUTATES, or an instance
+ * whose order_dependent() says so. */
+bool accel_serial(const accel *a);
 /* The accelerator's bounds (its bounds() or the scene's). */
 box3 accel_bounds(const accel *a);
 /* Its statistics (stats() or none), checked against accel_stat_names[]. */

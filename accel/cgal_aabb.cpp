@@ -48,12 +48,15 @@
  * CGAL's own.
  *
  * Rays (prims/ray.h): closest hit = first_intersection of the Ray_3 from
- * org + tnear*dir (org when tnear == 0) along dir; t = dot(p - org, dir) /
+ * org + tnear*dir (org when tnear == 0) along dir (scaled by a power of
+ * two to a largest component in [1, 2), see ray_vector); t = dot(p - org, dir) /
  * dot(dir, dir) of the intersection point p (a Segment_3, for a ray in a
  * triangle's plane: its endpoint nearest the origin); a first intersection
  * with t >= tfar is a miss (the whole ray is searched, then clipped). Any
  * hit = do_intersect of the Segment_3 org+tnear*dir .. org+tfar*dir (a Ray_3
- * when tfar is infinite); the segment is closed, prims/ is half-open: a hit
+ * when tfar is infinite; a segment whose ends coincide in doubles is asked
+ * as a closest hit, since CGAL refuses a degenerate segment); the segment
+ * is closed, prims/ is half-open: a hit
  * exactly at tfar is float noise either way. u = v = 0.
  * first_intersection is not exact (CGAL issue #1822, PR #3766: candidate
  * points are constructed, in doubles even with epick); its mismatches are
@@ -260,13 +263,24 @@ template <class K> struct Tree final : Tree_base {
         tree.build(&side); /* sets the shared data and builds now, not at the first query */
     }
 
+    /* dir scaled by a power of two (exactly) to a largest component in [1, 2): CGAL makes a Ray_3 of a
+     * point and a vector into two points, start and start + dir, which coincide for a tiny direction
+     * (1e-30 from z = 1) and then meet nothing. */
+    static Vector_3 ray_vector(const vec3 d)
+    {
+        const double m = std::max(std::fabs((double)d.x), std::max(std::fabs((double)d.y), std::fabs((double)d.z)));
+        int e;
+        (void)std::frexp(m, &e); /* m = f 2^e, f in [0.5, 1) */
+        return Vector_3(std::ldexp((double)d.x, 1 - e), std::ldexp((double)d.y, 1 - e), std::ldexp((double)d.z, 1 - e));
+    }
+
     bool intersect(const ray_t *r, hit_t *hit) const override
     {
         tl_ray = r;
         const Point_3 org(r->org.x, r->org.y, r->org.z);
         const Vector_3 dir(r->dir.x, r->dir.y, r->dir.z);
         const Point_3 start = r->tnear > 0 ? org + (double)r->tnear * dir : org;
-        auto res = tree.first_intersection(typename K::Ray_3(start, dir));
+        auto res = tree.first_intersection(typename K::Ray_3(start, ray_vector(r->dir)));
         if (!res) return false;
         const double dd = dir.squared_length();
         auto param = [&](const Point_3 &p) { return ((p - org) * dir) / dd; };
@@ -291,8 +305,16 @@ template <class K> struct Tree final : Tree_base {
         const Point_3 org(r->org.x, r->org.y, r->org.z);
         const Vector_3 dir(r->dir.x, r->dir.y, r->dir.z);
         const Point_3 start = r->tnear > 0 ? org + (double)r->tnear * dir : org;
-        if (std::isinf(r->tfar)) return tree.do_intersect(typename K::Ray_3(start, dir));
-        return tree.do_intersect(typename K::Segment_3(start, org + (double)r->tfar * dir));
+        if (std::isinf(r->tfar)) return tree.do_intersect(typename K::Ray_3(start, ray_vector(r->dir)));
+        const Point_3 end = org + (double)r->tfar * dir;
+        /* A segment shorter than double precision resolves (a tiny direction: the fuzzer's) is one point,
+         * which CGAL's segment predicates refuse (a precondition failure ends the program): ask the
+         * closest-hit query on the ray, which checks t against [tnear, tfar) itself. */
+        if (start == end) {
+            hit_t h;
+            return intersect(r, &h);
+        }
+        return tree.do_intersect(typename K::Segment_3(start, end));
     }
 
     size_t size() const override { return tree.size(); }
@@ -402,4 +424,5 @@ extern "C" const struct accel_ops accel_cgal_aabb = {
     /* .intersect_fast = */ NULL,
     /* .occluded_fast = */ NULL,
     /* .variants = */ cgal_variants,
+    /* .order_dependent = */ NULL,
 };

@@ -37,6 +37,7 @@
 #include <string.h>
 #include "accel.h"
 #include "embree.h"
+#include "../prims/checked_alloc.h"
 
 static const accel_param embree_params[] = {
     {"quality", "medium", "BVH build quality: low|medium|high"},
@@ -280,8 +281,7 @@ struct accel_ctx {
 static accel_ctx *embree_context_new(accel *a)
 {
     (void)a;
-    accel_ctx *ctx = malloc(sizeof *ctx);
-    if (!ctx) abort();
+    accel_ctx *ctx = checked_malloc(sizeof *ctx, "an Embree tracing context");
     rtcInitIntersectContext(&ctx->ic);
     return ctx;
 }

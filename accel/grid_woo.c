@@ -18,11 +18,11 @@
  *   grid         raw grid: mailbox on, every Woo switch and the ray box off.
  *                Thread-safe (no ACCEL_MUTATES). If the user turns mtf on,
  *                each tracing context gets its OWN copy of the candidate-id
- *                array and reorders that (threads x list bytes extra, not
- *                in memory()); the shared grid is never written, so it stays
- *                thread-safe: that is how move-to-front can be per-thread
- *                safe without the flag (coherence is then per thread, which
- *                the harness's runs of 256 consecutive rays keep).
+ *                array and reorders that (list bytes extra, not in
+ *                memory()); the shared grid is never written. With mtf or
+ *                rayid on, though, a ray's counters depend on the rays its
+ *                thread traced before, so order_dependent() says so and the
+ *                harness traces such a grid on one thread (CSV serial=1).
  *   grid-raybox  "Woo default": ray box on with every switch Woo's final
  *                implementation keeps. ACCEL_MUTATES: move-to-front
  *                reorders the SHARED lists as in Woo's linked lists, so the
@@ -172,8 +172,10 @@
 #include "accel.h"
 #include "common/mailbox.h"
 #include "common/memcap.h"
+#include "common/prim_test.h"
 #include "common/slab.h"
 #include "grid_woo.h"
+#include "../prims/checked_alloc.h"
 
 #define RAYID_WINDOW 64u
 #define RES_MAX 100000
@@ -497,12 +499,12 @@ static accel *grid_raybox_build(const scene_t *scene, const accel_params *params
 static accel_ctx *grid_context_new(accel *a)
 {
     grid_t *g = (grid_t *)a;
-    accel_ctx *ctx = calloc(1, sizeof *ctx);
-    if (!ctx) abort();
-    if ((g->mailbox || g->rayid) && mailbox_init(&ctx->mb, g->p->count)) abort();
+    /* context_new cannot fail through the interface: out of memory is exit 2 (prims/checked_alloc.h) */
+    accel_ctx *ctx = checked_calloc(1, sizeof *ctx, "a grid tracing context");
+    if ((g->mailbox || g->rayid) && mailbox_init(&ctx->mb, g->p->count))
+        checked_alloc_failed((uint64_t)g->p->count * sizeof(uint32_t), "a grid thread's mailboxes");
     if (g->mtf != MTF_OFF && !g->shared_mtf) {
-        ctx->ids = malloc((g->nrefs ? g->nrefs : 1) * sizeof *ctx->ids);
-        if (!ctx->ids) abort();
+        ctx->ids = checked_calloc(g->nrefs ? g->nrefs : 1, sizeof *ctx->ids, "a grid thread's move-to-front lists");
         memcpy(ctx->ids, g->ids, g->nrefs * sizeof *ctx->ids);
     }
     return ctx;
@@ -561,18 +563,6 @@ static inline void move_front(uint32_t *ids, uint32_t b, uint32_t k)
     ids[b] = id;
 }
 
-/* The primitive tests of the walk, counting or not (a constant). */
-static inline __attribute__((always_inline)) bool test_prim(const prims_t *p, uint32_t id, const ray_t *ray,
-                                                            hit_t *hit, counters_t *c, const bool counting)
-{
-    return counting ? prim_intersect(p, id, ray, hit, c) : prim_intersect_fast(p, id, ray, hit);
-}
-
-static inline __attribute__((always_inline)) bool test_occluded(const prims_t *p, uint32_t id, const ray_t *ray,
-                                                                counters_t *c, const bool counting)
-{
-    return counting ? prim_occluded(p, id, ray, c) : prim_occluded_fast(p, id, ray);
-}
 
 /* The walk, ONE source for all four methods: shadow (any hit) and counting
  * are compile-time constants at the call sites, so the counting-free
@@ -687,13 +677,13 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
                 }
                 if (mb) mailbox_mark(mb, id, rid);
                 if (shadow) {
-                    if (test_occluded(p, id, &rr, c, counting)) {
+                    if (prim_test_any(p, id, &rr, c, counting)) {
                         occluded = true;
                         goto out;
                     }
                     continue;
                 }
-                if (test_prim(p, id, &rr, hit, c, counting)) {
+                if (prim_test_closest(p, id, &rr, hit, c, counting)) {
                     if (g->dynbox && g->raybox) {
                         vh = minf(v2, hit->t);
                         if (vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
@@ -837,15 +827,23 @@ static void grid_reset(accel *a)
 
 static box3 grid_bounds(const accel *a) { return ((const grid_t *)a)->box; }
 
+/* rayid's window and `grid`'s per-thread move-to-front lists carry history
+ * from ray to ray within a thread: which rays a thread traced before
+ * decides the counters (and the tie-breaks), so on 2 threads they varied
+ * from run to run. Such a grid is traced on one thread (accel_serial). */
+static bool grid_order_dependent(const accel *a)
+{
+    const grid_t *g = (const grid_t *)a;
+    return g->rayid || g->mtf != MTF_OFF;
+}
+
 /* The settings the conformance suite runs besides the defaults: the
  * switches that change the walk's logic most, and a small fixed grid
- * (many candidates per cell, primitives crossing many cells). Not for
- * `grid`: mtf and rayid, whose per-thread lists and ray-id history make
- * tie-breaks and counters depend on which rays each thread traced before,
- * so 1 and 2 threads cannot agree bit for bit (grid-raybox runs on one
- * thread and may list them). */
+ * (many candidates per cell, primitives crossing many cells); for `grid`
+ * also mtf and rayid, which make it order-dependent (traced on one thread,
+ * like grid-raybox). */
 static const char *const grid_variants[] = {"mailbox=off", "insert=bbox", "voxbox=on,woo90=on,tclip=on", "res=4x4x4",
-                                            NULL};
+                                            "mtf=almost,rayid=twopass", NULL};
 static const char *const grid_raybox_variants[] = {"mtf=off", "raybox=off", "res=4x4x4",
                                                    "eyeorigin=on,rayid=twopass", NULL};
 
@@ -871,6 +869,7 @@ static const char *const grid_raybox_variants[] = {"mtf=off", "raybox=off", "res
         .intersect_fast = grid_intersect_fast,                                                                       \
         .occluded_fast = grid_occluded_fast,                                                                         \
         .variants = VARIANTS,                                                                                        \
+        .order_dependent = grid_order_dependent,                                                                     \
     }
 
 GRID_OPS(accel_grid, "grid", "uniform grid, Amanatides-Woo 3DDDA, mailboxes, no ray boxes (Woo switches available, off)",

@@ -32,6 +32,10 @@ const char *const accel_stat_names[] = {
     "refs_per_prim",  /* references stored over primitives: duplication */
     "res_x", "res_y", "res_z", /* grid resolution */
     "lazy_build_ms",  /* time spent building while tracing, since the last reset */
+    "hash_load",            /* nodes over buckets of a hashed structure (Glassner's octree) */
+    "hash_probes_avg",      /* key compares to find a stored node, averaged over the nodes */
+    "hash_probes_max",      /* the most compares any stored node takes */
+    "hash_probes_miss_avg", /* compares to learn a name is absent (an empty voxel), averaged */
     NULL,
 };
 
@@ -73,6 +77,11 @@ accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const acce
 }
 
 bool accel_resets(const accel *a) { return a->ops->version >= 2 && a->ops->reset; }
+
+bool accel_serial(const accel *a)
+{
+    return (a->ops->flags & ACCEL_MUTATES) || (a->ops->version >= 2 && a->ops->order_dependent && a->ops->order_dependent(a));
+}
 
 void accel_reset(accel *a)
 {

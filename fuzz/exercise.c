@@ -53,16 +53,29 @@ static void trace_set(accel *a, accel_ctx *ctx, const rayset_t *rs)
     }
 }
 
+void fuzz_cap_memory(accel_params *p)
+{
+    for (int k = 0; k < p->count; k++) {
+        if (strcmp(p->table[k].name, "memcap") != 0) continue;
+        char *end;
+        double mib = strtod(p->values[k], &end);
+        if (end != p->values[k] && !*end && !(mib <= FUZZ_MEMCAP_MIB))
+            snprintf(p->values[k], sizeof p->values[k], "%d", FUZZ_MEMCAP_MIB);
+    }
+}
+
 void fuzz_accel(const struct accel_ops *ops, const scene_t *s, const accel_params *params, rayset_t *const *sets,
                 int nsets)
 {
     if (skipped(ops->name)) return;
-    accel_params defaults;
-    if (!params) {
-        params_defaults(&defaults, ops->params);
-        defaults.threads = 1;
-        params = &defaults;
+    accel_params capped;
+    if (params) capped = *params;
+    else {
+        params_defaults(&capped, ops->params);
+        capped.threads = 1;
     }
+    fuzz_cap_memory(&capped);
+    params = &capped;
     char err[512];
     accel *a = accel_build(ops, s, params, err, sizeof err);
     if (!a) return;
@@ -141,4 +154,27 @@ rayset_t *const *fuzz_scene_rays(int *count)
     if (n < 0) n = make_rays(fuzz_scene(), sets);
     *count = n;
     return sets;
+}
+
+#define SEEN_SLOTS (1u << 16)
+
+bool fuzz_first_time(const char *kind, const char *key)
+{
+    static uint64_t seen[SEEN_SLOTS];
+    static unsigned nseen;
+    uint64_t h = 0xcbf29ce484222325u; /* FNV-1a of kind, a separator, key */
+    for (const char *c = kind; *c; c++) h = (h ^ (unsigned char)*c) * 0x100000001b3u;
+    h = (h ^ 0xff) * 0x100000001b3u;
+    for (const char *c = key; *c; c++) h = (h ^ (unsigned char)*c) * 0x100000001b3u;
+    h |= 1; /* 0 marks an empty slot */
+    if (nseen >= SEEN_SLOTS / 2) {
+        memset(seen, 0, sizeof seen);
+        nseen = 0;
+    }
+    unsigned i = (unsigned)h & (SEEN_SLOTS - 1);
+    for (; seen[i]; i = (i + 1) & (SEEN_SLOTS - 1))
+        if (seen[i] == h) return false;
+    seen[i] = h;
+    nseen++;
+    return true;
 }

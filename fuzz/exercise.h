@@ -9,7 +9,21 @@
 #include "../accel/accel.h"
 #include "../harness/rayset.h"
 
-/* Build ops over s with params (NULL: its defaults) and trace every ray of
+/* The fuzzer stops at 2 GB of memory and at 30 s an input; an
+ * accelerator's own cap (the grids' and the octree's memcap, 4096 MiB by
+ * default) lets a legal setting past both (grid density=385 filled 1 GiB of
+ * cells in more than 10 s; the octree's default depth over coincident
+ * spheres and a cone built 131,000 nodes in 14 s, and made fuzz_nff run 67
+ * inputs a second). Every build here is capped at FUZZ_MEMCAP_MIB: that
+ * still takes grids of 250,000 cells and octrees of ~12,000 nodes, and
+ * every refusal path. */
+#define FUZZ_MEMCAP_MIB 1
+/* A memcap in params above FUZZ_MEMCAP_MIB comes down to it; one that is
+ * not a number stays, for the accelerator to refuse. */
+void fuzz_cap_memory(accel_params *p);
+
+/* Build ops over s with params (NULL: its defaults; either capped by
+ * fuzz_cap_memory) and trace every ray of
  * sets[0..nsets) that the harness's rule lets through (ray_traceable)
  * through intersect, occluded and their fast forms, resetting a mutating
  * one between sets. Aborts on an answer the harness would index out of
@@ -30,5 +44,15 @@ const scene_t *fuzz_scene(void);
 
 /* The rays of fuzz_scene's workloads, made once like it (count sets). */
 rayset_t *const *fuzz_scene_rays(int *count);
+
+/* true the first time the pair (kind, key) comes in this process, then
+ * remembered: the harnesses skip the build and trace of an input that only
+ * repeats one already exercised (most mutations change no setting, or one
+ * the parser refuses; the same settings build the same structure over the
+ * same scene, so building it again finds nothing new, and skipping took
+ * fuzz_params from ~190 to thousands of executions a second). Kept as
+ * 64-bit hashes in a table that is cleared when half full: a forgotten
+ * pair is only exercised again. */
+bool fuzz_first_time(const char *kind, const char *key);
 
 #endif

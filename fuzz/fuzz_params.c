@@ -3,7 +3,7 @@
  * line is KEY=VALUE, set on every registered accelerator's table (unknown
  * keys are refused there), or ACCEL.KEY=VALUE, set on that one only, as
  * --param gives it. Every accelerator is then built with what was set
- * (a memory cap above 1 MiB lowered to it: see cap_memory), over the fixed
+ * (a memory cap above FUZZ_MEMCAP_MIB lowered to it: exercise.h), over the fixed
  * scene, and traced (exercise.c) with the scene's primary and random rays. */
 #include <stdlib.h>
 #include <string.h>
@@ -12,25 +12,6 @@
 int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size);
 
 #define MAX_ACCELS 32
-/* The fuzzer stops at 2 GB of memory and at 10 s an input; an accelerator's
- * own cap (the grids' memcap, 4096 MiB by default) lets a legal resolution
- * past both (density=385 filled 1 GiB of cells for more than 10 s), and
- * even 4 MiB of cells (a million) spent 17 ms an input in the grids. A
- * 1 MiB cap still takes grids of 250,000 cells, and every refusal path. */
-#define FUZZ_MEMCAP_MIB 1
-
-/* A memcap the input left above FUZZ_MEMCAP_MIB comes down to it; one that
- * is not a number stays, for the accelerator to refuse. */
-static void cap_memory(accel_params *p)
-{
-    for (int k = 0; k < p->count; k++) {
-        if (strcmp(p->table[k].name, "memcap") != 0) continue;
-        char *end;
-        double mib = strtod(p->values[k], &end);
-        if (end != p->values[k] && !*end && !(mib <= FUZZ_MEMCAP_MIB))
-            snprintf(p->values[k], sizeof p->values[k], "%d", FUZZ_MEMCAP_MIB);
-    }
-}
 
 int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size)
 {
@@ -61,14 +42,14 @@ int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size)
             if (!only || accel_registry[i] == only) (void)params_set(&params[i], key, eq + 1, err, sizeof err);
     }
     free(text);
-    for (int i = 0; i < n; i++) cap_memory(&params[i]);
+    for (int i = 0; i < n; i++) fuzz_cap_memory(&params[i]);
     int nsets;
     rayset_t *const *sets = fuzz_scene_rays(&nsets);
     nsets = nsets < 2 ? nsets : 2; /* primary and random rays: a fine grid walks thousands of cells a ray */
     for (int i = 0; i < n; i++) {
         char canon[1024];
         params_format(&params[i], canon, sizeof canon);
-        fuzz_accel(accel_registry[i], fuzz_scene(), &params[i], sets, nsets);
+        if (fuzz_first_time(accel_registry[i]->name, canon)) fuzz_accel(accel_registry[i], fuzz_scene(), &params[i], sets, nsets);
     }
     return 0;
 }

@@ -26,6 +26,7 @@ int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size)
     if (scene_check(name, err, sizeof err) != 0) return 0;
     uint64_t prims;
     if (!scene_generated(name, &prims) || prims > MAX_GENERATED_PRIMS) return 0;
+    if (!fuzz_first_time("scene", name)) return 0; /* loaded and exercised already */
     scene_t *s = scene_load(name, err, sizeof err);
     if (s) fuzz_exercise(s, NULL);
     scene_free(s);

@@ -14,6 +14,7 @@
 #include "../accel/embree.h"
 #include "machine.h"
 #include "trace.h"
+#include "../prims/checked_alloc.h"
 #include "workload.h"
 
 static int cmp(const void *a, const void *b)
@@ -73,8 +74,9 @@ int main(int argc, char **argv)
      * not skewed by where two different 4 MB arrays happen to land. The
      * answers checked below come from one more bare loop into a buffer of
      * their own. */
-    hit_t *bare = calloc(rs->count, sizeof *bare);
-    double *th = calloc((size_t)repeat, sizeof(double)), *tb = calloc((size_t)repeat, sizeof(double));
+    hit_t *bare = checked_calloc(rs->count, sizeof *bare, "the bare loop's answers");
+    double *th = checked_calloc((size_t)repeat, sizeof(double), "the harness's times");
+    double *tb = checked_calloc((size_t)repeat, sizeof(double), "the bare loop's times");
     trace_rayset(a, rs, 1, ans); /* warm-up both paths */
     bare_loop(embree_scene_of(a), rs, ans->hits);
     for (int k = 0; k < repeat; k++) { /* interleaved, alternating who goes first, so drift and order hit both alike */

@@ -1,8 +1,10 @@
-/* csv.c: writing the benchmark CSV (see csv.h). */
+/* csv.c: the benchmark CSV's columns, its rows as text, and RFC 4180
+ * records split back into fields (see csv.h). */
 #include "csv.h"
 
 #include <errno.h>
 #include <inttypes.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* The columns before and after the stat_NAME ones. */
@@ -14,7 +16,10 @@ static const char *const columns_head[] = {
     "mismatch_edge", "mismatch_tol", "mismatch_refwrong", "mismatch_origin", "mismatch_unjudged", "illposed_rays",
     "judge_ms", "serial", "res", "spp", "repeat", "passes", "timed_path", NULL,
 };
-static const char *const columns_tail[] = {"git_rev", "machine", "cpu", "date", NULL};
+/* run_id and cell_key sit before the provenance columns, after every
+ * column a script cuts by position (rayset_hash is the 9th, agree the 27th):
+ * a cell key holds commas, so it is quoted. */
+static const char *const columns_tail[] = {"run_id", "cell_key", "git_rev", "machine", "cpu", "date", NULL};
 
 /* Appends the column PREFIX NAME to the header in buf (length n so far),
  * after a comma unless it is the first; returns the new length. */
@@ -33,32 +38,25 @@ void csv_header(char *buf, size_t len)
     for (int i = 0; columns_tail[i]; i++) n = append_column(buf, len, n, "", columns_tail[i]);
 }
 
-FILE *csv_open(const char *path, char *err, size_t errlen)
+int csv_columns(void)
 {
-    char header[CSV_HEADER_MAX];
-    csv_header(header, sizeof header);
-    FILE *f = fopen(path, "a+");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot open for appending: %s", path, strerror(errno));
-        return NULL;
-    }
-    fseek(f, 0, SEEK_END);
-    if (ftell(f) == 0) {
-        fprintf(f, "%s\n", header);
-        fflush(f);
-        return f;
-    }
-    char first[CSV_HEADER_MAX] = "";
-    rewind(f);
-    if (!fgets(first, sizeof first, f)) first[0] = 0;
-    first[strcspn(first, "\r\n")] = 0;
-    if (strcmp(first, header) != 0) {
-        snprintf(err, errlen, "%s: exists with other columns; choose a new --out", path);
-        fclose(f);
-        return NULL;
-    }
-    fseek(f, 0, SEEK_END);
-    return f;
+    int n = 0;
+    for (int i = 0; columns_head[i]; i++) n++;
+    for (int i = 0; accel_stat_names[i]; i++) n++;
+    for (int i = 0; columns_tail[i]; i++) n++;
+    return n;
+}
+
+int csv_column_index(const char *name)
+{
+    int n = 0;
+    for (int i = 0; columns_head[i]; i++, n++)
+        if (!strcmp(columns_head[i], name)) return n;
+    for (int i = 0; accel_stat_names[i]; i++, n++)
+        if (!strncmp(name, "stat_", 5) && !strcmp(accel_stat_names[i], name + 5)) return n;
+    for (int i = 0; columns_tail[i]; i++, n++)
+        if (!strcmp(columns_tail[i], name)) return n;
+    return -1;
 }
 
 /* RFC 4180: quote a field holding a comma, quote or newline. */
@@ -77,10 +75,17 @@ static void put_text(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* The measured columns: empty for a row of no rays (csv.h). */
+static void put_ms(FILE *f, const csv_row *r, const char *fmt, double v)
+{
+    fputc(',', f);
+    if (!r->no_rays) fprintf(f, fmt, v);
+}
+
 static void put_per_ray(FILE *f, const csv_row *r, uint64_t total)
 {
-    if (r->has_counters) fprintf(f, ",%.6g", r->rays ? (double)total / (double)r->rays : 0.0);
-    else fputc(',', f);
+    fputc(',', f);
+    if (r->has_counters && !r->no_rays && r->rays) fprintf(f, "%.6g", (double)total / (double)r->rays);
 }
 
 /* One field per name of accel_stat_names[], empty where the accelerator
@@ -89,7 +94,7 @@ static void put_stats(FILE *f, const csv_row *r)
 {
     for (int i = 0; accel_stat_names[i]; i++) {
         fputc(',', f);
-        for (int k = 0; k < r->nstats; k++)
+        for (int k = 0; k < r->nstats && !r->no_rays; k++)
             if (strcmp(r->stats[k].name, accel_stat_names[i]) == 0) {
                 fprintf(f, "%.6g", r->stats[k].value);
                 break;
@@ -97,7 +102,14 @@ static void put_stats(FILE *f, const csv_row *r)
     }
 }
 
-void csv_write_row(FILE *f, const csv_row *r)
+/* A count, or empty when zero means "none" (image size, samples, passes). */
+static void put_size(FILE *f, int v)
+{
+    fputc(',', f);
+    if (v > 0) fprintf(f, "%d", v);
+}
+
+static void put_row(FILE *f, const csv_row *r)
 {
     put_text(f, r->scene);
     fprintf(f, ",%" PRIu32 ",", r->prims);
@@ -107,9 +119,17 @@ void csv_write_row(FILE *f, const csv_row *r)
     fputc(',', f);
     put_text(f, r->workload);
     fprintf(f, ",%" PRIu32 ",%d,%" PRIu64 ",%016" PRIx64, r->rays, r->threads, r->seed, r->rayset_hash);
-    fprintf(f, ",%.4f,%.4f,%.4f,%.4f,%.6g,%.6g,%.6g,%.6g,%.4f", r->build_ms, r->trace_ms, r->trace_ms_min,
-            r->trace_ms_max, r->mrays_per_s, r->ratio_vs_embree, r->ratio_min, r->ratio_max, r->embree_ms);
-    fprintf(f, ",%" PRIu64 ",%.6g", r->mem_bytes, r->prims ? (double)r->mem_bytes / r->prims : 0.0);
+    put_ms(f, r, "%.4f", r->build_ms);
+    put_ms(f, r, "%.4f", r->trace_ms);
+    put_ms(f, r, "%.4f", r->trace_ms_min);
+    put_ms(f, r, "%.4f", r->trace_ms_max);
+    put_ms(f, r, "%.6g", r->mrays_per_s);
+    put_ms(f, r, "%.6g", r->ratio_vs_embree);
+    put_ms(f, r, "%.6g", r->ratio_min);
+    put_ms(f, r, "%.6g", r->ratio_max);
+    put_ms(f, r, "%.4f", r->embree_ms);
+    if (r->no_rays) fputs(",,", f);
+    else fprintf(f, ",%" PRIu64 ",%.6g", r->mem_bytes, r->prims ? (double)r->mem_bytes / r->prims : 0.0);
     put_per_ray(f, r, r->counters.prim_tests);
     put_per_ray(f, r, r->counters.prim_hits);
     put_per_ray(f, r, r->counters.box_tests);
@@ -120,14 +140,91 @@ void csv_write_row(FILE *f, const csv_row *r)
             r->mismatch_edge, r->mismatch_tol, r->mismatch_refwrong);
     fprintf(f, ",%" PRIu64 ",%" PRIu64 ",%" PRIu32 ",%.1f", r->mismatch_origin, r->mismatch_unjudged, r->illposed_rays,
             r->judge_ms);
-    fprintf(f, ",%d,%dx%d,%d,%d,%d,", r->serial ? 1 : 0, r->width, r->height, r->spp, r->repeat, r->passes);
-    put_text(f, r->timed_path);
+    fprintf(f, ",%d,", r->serial ? 1 : 0);
+    if (r->width > 0 && r->height > 0) fprintf(f, "%dx%d", r->width, r->height);
+    put_size(f, r->spp);
+    put_size(f, r->repeat);
+    put_size(f, r->no_rays ? 0 : r->passes);
+    fputc(',', f);
+    put_text(f, r->no_rays ? "" : r->timed_path);
     put_stats(f, r);
-    const char *const tail[] = {r->git_rev, r->machine, r->cpu, r->date}; /* columns_tail */
-    for (int i = 0; i < 4; i++) {
+    const char *const tail[] = {r->run_id, r->cell_key, r->git_rev, r->machine, r->cpu, r->date}; /* columns_tail */
+    for (int i = 0; i < 6; i++) {
         fputc(',', f);
         put_text(f, tail[i]);
     }
     fputc('\n', f);
-    fflush(f);
+}
+
+int csv_format_row(const csv_row *r, char **text, size_t *len)
+{
+    *text = NULL;
+    *len = 0;
+    FILE *f = open_memstream(text, len);
+    if (!f) return -1;
+    put_row(f, r);
+    if (fclose(f) != 0 || !*text) {
+        free(*text);
+        *text = NULL;
+        return -1;
+    }
+    return 0;
+}
+
+int csv_write_row(FILE *f, const csv_row *r)
+{
+    char *text;
+    size_t len;
+    if (csv_format_row(r, &text, &len)) return -1;
+    int rc = fwrite(text, 1, len, f) == len && fflush(f) == 0 ? 0 : -1;
+    free(text);
+    return rc;
+}
+
+size_t csv_split_record(const char *text, size_t n, int *nfields, bool *complete, csv_span *spans, int maxfields)
+{
+    size_t i = 0;
+    int nf = 0;
+    *complete = false;
+    for (;;) {
+        /* One field from i: quoted (to its closing quote) or plain (to a comma or line break). */
+        csv_span sp = {i, 0, i < n && text[i] == '"'};
+        if (sp.quoted) {
+            for (i++;; i++) {
+                if (i >= n) break;
+                if (text[i] != '"') continue;
+                if (i + 1 < n && text[i + 1] == '"') i++;
+                else {
+                    i++;
+                    break;
+                }
+            }
+        }
+        while (i < n && text[i] != ',' && text[i] != '\n') i++;
+        sp.len = i - sp.off;
+        if (sp.len && text[i - 1] == '\r' && i < n && text[i] == '\n') sp.len--;
+        if (spans && nf < maxfields) spans[nf] = sp;
+        nf++;
+        if (i >= n) break;
+        if (text[i++] == '\n') {
+            *complete = true;
+            break;
+        }
+    }
+    *nfields = nf;
+    return i;
+}
+
+void csv_field(const char *text, csv_span span, char *buf, size_t len)
+{
+    size_t k = 0, i = span.off, end = span.off + span.len;
+    if (span.quoted) {
+        i++;
+        if (end > i && text[end - 1] == '"') end--;
+    }
+    for (; i < end && k + 1 < len; i++) {
+        if (span.quoted && text[i] == '"' && i + 1 < end && text[i + 1] == '"') i++;
+        buf[k++] = text[i];
+    }
+    if (len) buf[k] = 0;
 }

@@ -1,5 +1,6 @@
 /* figures.c: reading a paper's figures file (see figures.h). */
 #include "figures.h"
+#include "../prims/checked_alloc.h"
 
 #include <errno.h>
 #include <math.h>
@@ -45,8 +46,7 @@ figures *figures_load(const char *path, char *err, size_t errlen)
         snprintf(err, errlen, "%s: cannot read the paper's figures: %s", path, strerror(errno));
         return NULL;
     }
-    figures *f = calloc(1, sizeof *f);
-    if (!f) abort();
+    figures *f = checked_calloc(1, sizeof *f, "a paper's figures");
     char line[1024];
     int lineno = 0;
     while (fgets(line, sizeof line, in)) {
@@ -67,8 +67,7 @@ figures *figures_load(const char *path, char *err, size_t errlen)
         }
         if (f->n == f->cap) {
             f->cap = f->cap ? 2 * f->cap : 64;
-            f->e = realloc(f->e, (size_t)f->cap * sizeof *f->e);
-            if (!f->e) abort();
+            f->e = checked_realloc(f->e, (size_t)f->cap * sizeof *f->e, "a paper's figures");
         }
         entry *e = &f->e[f->n++];
         snprintf(e->table, sizeof e->table, "%s", field[0]);

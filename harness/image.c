@@ -1,5 +1,6 @@
 /* image.c: PNG output through libpng and the heat-map colour map. */
 #include "image.h"
+#include "../prims/checked_alloc.h"
 
 #include <errno.h>
 #include <math.h>
@@ -10,12 +11,11 @@
 
 image_t *image_new(int width, int height)
 {
-    image_t *im = calloc(1, sizeof *im);
-    if (!im) abort();
+    /* render checks an image's size against the memory cap before making it (resources.h). */
+    image_t *im = checked_calloc(1, sizeof *im, "an image");
     im->width = width;
     im->height = height;
-    im->rgb = calloc((size_t)width * (size_t)height * 3, 1);
-    if (!im->rgb) abort();
+    im->rgb = checked_calloc(checked_array_bytes((size_t)width, (size_t)height, "an image's pixels"), 3, "an image's pixels");
     return im;
 }
 

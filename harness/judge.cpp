@@ -79,11 +79,13 @@
 #include <CGAL/Simple_cartesian.h>
 #include <boost/iterator/counting_iterator.hpp>
 #include <mpfr.h>
+#include "../prims/checked_alloc.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -630,13 +632,27 @@ static judge_hit closest_among(judge_t *j, const ray_t *r, const uint32_t *ids, 
     return h;
 }
 
+/* No C++ exception may cross into C: an allocation of the judge's failing
+ * (the tree, the candidate list, CGAL's numbers) is one line and exit 2,
+ * as everywhere else (prims/checked_alloc.h), not std::terminate. */
+template <class F> static auto or_exit(F f) -> decltype(f())
+{
+    try {
+        return f();
+    } catch (const std::bad_alloc &) {
+        checked_alloc_failed(0, "the exact judge");
+    }
+}
+
 extern "C" {
 
 judge_t *judge_new(const scene_t *s)
 {
-    judge_t *j = new judge;
-    j->s = s;
-    return j;
+    return or_exit([&] {
+        judge_t *j = new judge;
+        j->s = s;
+        return j;
+    });
 }
 
 void judge_free(judge_t *j)
@@ -648,7 +664,7 @@ void judge_free(judge_t *j)
 
 judge_hit judge_closest_among(judge_t *j, const ray_t *r, const uint32_t *ids, int n)
 {
-    return closest_among(j, r, ids, n > 0 ? (size_t)n : 0);
+    return or_exit([&] { return closest_among(j, r, ids, n > 0 ? (size_t)n : 0); });
 }
 
 /* Fill j->cand with every primitive whose box, inflated by rel M + 2^-900,
@@ -677,14 +693,16 @@ static void collect_candidates(judge_t *j, const ray_t *r, double rel)
 
 judge_hit judge_closest(judge_t *j, const ray_t *r)
 {
-    collect_candidates(j, r, 0x1p-30);
-    j->last.candidates = (uint32_t)j->cand.size();
-    return closest_among(j, r, j->cand.data(), j->cand.size());
+    return or_exit([&] {
+        collect_candidates(j, r, 0x1p-30);
+        j->last.candidates = (uint32_t)j->cand.size();
+        return closest_among(j, r, j->cand.data(), j->cand.size());
+    });
 }
 
 int judge_candidates(judge_t *j, const ray_t *r, uint32_t *ids, int max)
 {
-    collect_candidates(j, r, 0x1p-16);
+    or_exit([&] { collect_candidates(j, r, 0x1p-16); });
     size_t n = std::min(j->cand.size(), max > 0 ? (size_t)max : 0);
     if (n) std::memcpy(ids, j->cand.data(), n * sizeof *ids);
     return (int)j->cand.size();
@@ -701,7 +719,7 @@ bool judge_describe(judge_t *j, const ray_t *r, uint32_t prim, char *decimal, si
         return false;
     }
     if (dlen) snprintf(decimal, dlen, "%.17g", nearest_double(t));
-    if (elen) snprintf(exact, elen, "%s", root_text(t).c_str());
+    if (elen) or_exit([&] { snprintf(exact, elen, "%s", root_text(t).c_str()); });
     return true;
 }
 

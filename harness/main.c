@@ -6,7 +6,8 @@
  *   accelbench render  --scene S --accel A --out FILE.png [...]    image or cost heat map
  *   accelbench reproduce woo92 [--out DIR] [--quick] [...]          a paper's tables with our numbers
  *
- * Exit status: 0 success, 1 verify found a real mismatch, 2 bad input. */
+ * Exit status: 0 success, 1 verify found a real mismatch or run could not
+ * write its results, 2 bad input, 128+N when run stopped on signal N. */
 #include <stdio.h>
 #include <string.h>
 #include "matrix.h"
@@ -100,6 +101,8 @@ int main(int argc, char **argv)
     }
     options o;
     int rc = options_parse(&o, cmd, argc - 1, argv + 1);
+    o.argc_full = argc;
+    o.argv_full = argv;
     if (rc == 0) rc = run(&o);
     else if (rc == 1) rc = 0; /* --help */
     options_free(&o);

@@ -1,36 +1,104 @@
-/* matrix.c: the run and verify loops (see matrix.h). */
+/* matrix.c: the run and verify loops (see matrix.h). run files each
+ * cell's row in the results store as the cell finishes (resume.h), skips
+ * the cells the store has with the same cell key (cellkey.h) unless
+ * --redo, and lets SIGINT/SIGTERM abandon a cell but never a row
+ * (signals.h). */
 #include "matrix.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
+#include "cellkey.h"
 #include "csv.h"
 #include "machine.h"
 #include "measure.h"
 #include "output.h"
+#include "resume.h"
+#include "signals.h"
 #include "trace.h"
 #include "verify.h"
+#include "version.h"
 
+/* Write a ray set to path through a temporary file beside it, renamed
+ * into place, so that a run killed mid-write leaves no torn file under
+ * the name (a device or a pipe is written directly: there is nothing to
+ * rename onto, and nothing must replace it). */
+static int save_rays_file(const rayset_t *rs, const char *path, char *err, size_t errlen)
+{
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) return rayset_save(rs, path, err, errlen);
+    char real[PATH_MAX], tmp[PATH_MAX + 64];
+    if (!realpath(path, real)) snprintf(real, sizeof real, "%s", path);
+    const char *slash = strrchr(real, '/');
+    snprintf(tmp, sizeof tmp, "%.*s.%s.tmp.%ld", slash ? (int)(slash - real + 1) : 0, real, slash ? slash + 1 : real,
+             (long)getpid());
+    char why[1024];
+    if (rayset_save(rs, tmp, why, sizeof why)) {
+        unlink(tmp);
+        size_t tl = strlen(tmp);
+        /* rayset_save named the temporary file; the user knows the path. */
+        snprintf(err, errlen, "%s%s", path, strncmp(why, tmp, tl) == 0 ? why + tl : why);
+        return -1;
+    }
+    if (rename(tmp, real) != 0) {
+        snprintf(err, errlen, "%s: write failed: %s", path, strerror(errno));
+        unlink(tmp);
+        return -1;
+    }
+    return 0;
+}
+
+/* Where --save-rays writes the set rs, one of nsets: the file itself, or a file in its folder. */
+static void save_rays_path(const options *o, const rayset_t *rs, int nsets, char *path, size_t len)
+{
+    if (nsets == 1) {
+        snprintf(path, len, "%s", o->save_rays);
+        return;
+    }
+    char safe[256];
+    snprintf(safe, sizeof safe, "%s", rs->scene);
+    for (char *p = safe; *p; p++)
+        if (*p == '/' || *p == ':') *p = '_';
+    snprintf(path, len, "%s/%s__%s.rays", o->save_rays, safe, rs->workload);
+}
+
+/* --save-rays, checked before any work: the folder of several sets is
+ * made, the folder of one set's file must exist. Returns 0 or 2 (printed). */
+static int save_rays_check(const options *o, int nsets)
+{
+    if (!o->save_rays) return 0;
+    if (nsets > 1) {
+        if (mkdir_p(o->save_rays) == 0) return 0;
+        fprintf(stderr, "accelbench: --save-rays %s: cannot create folder: %s\n", o->save_rays, strerror(errno));
+        return 2;
+    }
+    char dir[PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", o->save_rays);
+    char *slash = strrchr(dir, '/');
+    if (!slash) return 0;
+    if (slash == dir) slash[1] = 0;
+    else *slash = 0;
+    struct stat st;
+    if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
+    fprintf(stderr, "accelbench: --save-rays %s: folder %s does not exist\n", o->save_rays, dir);
+    return 2;
+}
+
+/* Save one ray set (--save-rays). Returns 0, or -1 after printing why. */
 static int save_rays(const options *o, const rayset_t *rs, int nsets)
 {
-    char path[1024], err[512];
-    if (nsets == 1) {
-        snprintf(path, sizeof path, "%s", o->save_rays);
-    } else {
-        if (mkdir_p(o->save_rays)) {
-            fprintf(stderr, "accelbench: --save-rays %s: cannot create folder: %s\n", o->save_rays, strerror(errno));
-            return -1;
-        }
-        char safe[256];
-        snprintf(safe, sizeof safe, "%s", rs->scene);
-        for (char *p = safe; *p; p++)
-            if (*p == '/' || *p == ':') *p = '_';
-        snprintf(path, sizeof path, "%s/%s__%s.rays", o->save_rays, safe, rs->workload);
+    char path[1024], err[2200];
+    save_rays_path(o, rs, nsets, path, sizeof path);
+    if (nsets > 1 && mkdir_p(o->save_rays)) {
+        fprintf(stderr, "accelbench: --save-rays %s: cannot create folder: %s\n", o->save_rays, strerror(errno));
+        return -1;
     }
-    if (rayset_save(rs, path, err, sizeof err)) {
+    if (save_rays_file(rs, path, err, sizeof err)) {
         fprintf(stderr, "accelbench: %s\n", err);
         return -1;
     }
@@ -38,23 +106,35 @@ static int save_rays(const options *o, const rayset_t *rs, int nsets)
     return 0;
 }
 
-/* Make (or load) the ray set of one workload and the reference's answers. */
+/* Make (or load, or take the preloaded) ray set of one workload and the
+ * reference's answers. A loaded set's light indices are checked against
+ * the scene it is replayed on. */
 static int cell_prepare(const options *o, const scene_t *s, accel *ref, verifier_t *ver, const workload_def *w,
-                        cell_rays *in)
+                        rayset_t **preloaded, cell_rays *in)
 {
-    char err[512];
+    char err[1024];
     rayset_t *rs;
-    if (o->rays_file) {
+    if (preloaded && *preloaded) {
+        rs = *preloaded;
+        *preloaded = NULL;
+    } else if (o->rays_file) {
         rs = rayset_load(o->rays_file, err, sizeof err);
         if (!rs) {
             fprintf(stderr, "accelbench: %s\n", err);
             return -1;
         }
+    } else {
+        rs = w->make(s, ref, &o->wl);
+    }
+    if (o->rays_file) {
+        if (rayset_check_lights(rs, o->rays_file, s->name, s->nlights, err, sizeof err)) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            rayset_free(rs);
+            return -1;
+        }
         if (strcmp(rs->scene, s->name) != 0)
             fprintf(stderr, "accelbench: warning: %s was made for scene '%s', replaying on '%s'\n", o->rays_file,
                     rs->scene, s->name);
-    } else {
-        rs = w->make(s, ref, &o->wl);
     }
     cell_rays_init(in, s, ref, ver, rs, o->threads);
     return 0;
@@ -114,31 +194,260 @@ static void print_progress(int done, int total, const cell_result *cr)
     }
 }
 
-int matrix_run(options *o)
+/* ------------------------------------------------------------------ run */
+
+/* Append one shell word to buf, single-quoted when the shell would split
+ * or expand it (a quote inside becomes '\''). */
+static void shell_word(char *buf, size_t len, const char *word)
 {
-    machine_info mi;
-    machine_describe(&mi);
-    char out_dir[1024], csv_path[1100], err[512];
-    if (output_folder(o->out, "", out_dir, sizeof out_dir)) return 2;
-    snprintf(csv_path, sizeof csv_path, "%s/matrix.csv", out_dir);
-    FILE *csv = csv_open(csv_path, err, sizeof err);
-    if (!csv) {
-        fprintf(stderr, "accelbench: %s\n", err);
+    size_t n = strlen(buf);
+    bool plain = *word != 0;
+    for (const char *c = word; *c; c++)
+        if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789:,._/=+-@%", *c)) plain = false;
+    if (n && n + 1 < len) buf[n++] = ' ', buf[n] = 0;
+    if (plain) {
+        snprintf(buf + n, len - n, "%s", word);
+        return;
+    }
+    if (n + 1 < len) buf[n++] = '\'', buf[n] = 0;
+    for (const char *c = word; *c && n + 5 < len; c++) {
+        if (*c == '\'') n += (size_t)snprintf(buf + n, len - n, "'\\''");
+        else buf[n++] = *c, buf[n] = 0;
+    }
+    if (n + 1 < len) buf[n++] = '\'', buf[n] = 0;
+}
+
+/* The command that resumes this run: the one typed, with --out DIR when
+ * it had none (the default folder is named for the time). */
+static void resume_command(const options *o, const char *out_dir, char *buf, size_t len)
+{
+    buf[0] = 0;
+    for (int i = 0; i < o->argc_full; i++) shell_word(buf, len, o->argv_full[i]);
+    if (!o->argc_full) shell_word(buf, len, "accelbench run ...");
+    if (!o->out) {
+        shell_word(buf, len, "--out");
+        shell_word(buf, len, out_dir);
+    }
+}
+
+/* The key of cell (scene si, workload wi, accelerator ac): the options
+ * form, or the ray-set form for a replayed file (cellkey.h). */
+static int run_cell_key(const options *o, int si, int wi, const accel_config *ac, const rayset_t *replay, char *buf,
+                        size_t len)
+{
+    cell_key_parts k = {.scene = o->scenes[si], .accel = ac->ops->name, .params = ac->params_str,
+                        .workload = replay ? replay->workload : o->workloads[wi]->name, .wl = replay ? NULL : &o->wl,
+                        .rays_hash = replay ? replay->hash : 0, .threads = o->threads, .repeat = o->repeat};
+    if (cell_key_format(&k, buf, len) == 0) return 0;
+    fprintf(stderr, "accelbench: %s %s %s: the cell key is longer than %d bytes\n", o->scenes[si], ac->ops->name,
+            k.workload, CELL_KEY_MAX - 1);
+    return -1;
+}
+
+/* The cells of a run: every (scene, workload, accelerator) the
+ * accelerator answers, each to run or already done. */
+enum { CELL_NONE, CELL_RUN, CELL_DONE };
+
+typedef struct {
+    unsigned char *state;  /* [scene][workload][accel] */
+    int nw, total, done;   /* workloads per scene; cells; cells the CSV has */
+    int other_build;       /* done cells whose row another build (git_rev) measured */
+} run_cells;
+
+static unsigned char *cell_state(run_cells *c, const options *o, int si, int wi, int ai)
+{
+    return &c->state[((size_t)si * (size_t)c->nw + (size_t)wi) * (size_t)o->naccels + (size_t)ai];
+}
+
+/* Which cells are there and which the store already has. Returns 0 or 2 (printed). */
+static int plan_cells(const options *o, const results_store *store, const rayset_t *replay, const char *git_rev,
+                      run_cells *c)
+{
+    memset(c, 0, sizeof *c);
+    c->nw = replay ? 1 : o->nworkloads;
+    c->state = calloc((size_t)o->nscenes * (size_t)c->nw * (size_t)o->naccels, 1);
+    if (!c->state) {
+        fprintf(stderr, "accelbench: out of memory planning the cells\n");
         return 2;
     }
-    char info_path[1100];
-    snprintf(info_path, sizeof info_path, "%s/run.txt", out_dir);
-    FILE *info = fopen(info_path, "a");
-    if (info) {
-        fprintf(info, "command: %s\nmachine: %s\ncpu: %s\ngit_rev: %s\ndate: %s\nthreads: %d\nrepeat: %d (timed samples, each paired with one of Embree's at the same thread count, after 1 warm-up; medians reported)\n\n",
-                o->argv_line, mi.host, mi.cpu, mi.git_rev, mi.date, o->threads, o->repeat);
-        fclose(info);
+    char key[CELL_KEY_MAX];
+    for (int si = 0; si < o->nscenes; si++)
+        for (int wi = 0; wi < c->nw; wi++)
+            for (int ai = 0; ai < o->naccels; ai++) {
+                const accel_config *ac = &o->accels[ai];
+                query_kind q = replay ? replay->query : o->workloads[wi]->query;
+                if (!accel_runs_workload(ac->ops, q)) continue;
+                if (run_cell_key(o, si, wi, ac, replay, key, sizeof key)) return 2;
+                c->total++;
+                const char *rev = NULL;
+                bool done = results_find(store, key, &rev) != NULL;
+                c->done += done;
+                c->other_build += done && rev && strcmp(rev, git_rev) != 0;
+                *cell_state(c, o, si, wi, ai) = done && !o->redo ? CELL_DONE : CELL_RUN;
+            }
+    return 0;
+}
+
+/* Whether any cell of scene si (workload wi, or all when wi < 0) is to run. */
+static bool cells_to_run(run_cells *c, const options *o, int si, int wi)
+{
+    for (int w = wi < 0 ? 0 : wi; w < (wi < 0 ? c->nw : wi + 1); w++)
+        for (int ai = 0; ai < o->naccels; ai++)
+            if (*cell_state(c, o, si, w, ai) == CELL_RUN) return true;
+    return false;
+}
+
+static int cells_in(run_cells *c, const options *o, int si, int wi)
+{
+    int n = 0;
+    for (int w = wi < 0 ? 0 : wi; w < (wi < 0 ? c->nw : wi + 1); w++)
+        for (int ai = 0; ai < o->naccels; ai++) n += *cell_state(c, o, si, w, ai) != CELL_NONE;
+    return n;
+}
+
+/* What the folder held, said before any work. */
+static void print_found(const options *o, const char *csv_path, const results_found *f, const run_cells *c)
+{
+    if (f->torn_line)
+        fprintf(stderr, "accelbench: %s: line %d: a torn row (%s), left by a run killed while writing it: dropped; "
+                        "its cell runs again\n", csv_path, f->torn_line, f->torn_why);
+    if (f->duplicates)
+        fprintf(stderr, "accelbench: warning: %s: %d rows repeat the cell key of an earlier row (not written by this "
+                        "program); the last of each counts\n", csv_path, f->duplicates);
+    if (f->rows == 0) return; /* said even with --quiet: it decides what this run measures */
+    char runs[32] = "";
+    if (f->runs > 0) snprintf(runs, sizeof runs, " from %d run%s", f->runs, f->runs == 1 ? "" : "s");
+    if (c->done == 0) {
+        fprintf(stderr, "accelbench: %s: %d rows%s; none of this run's %d cells is among them\n", csv_path, f->rows,
+                runs, c->total);
+        return;
     }
-    int total = o->nscenes * o->nworkloads * o->naccels, done = 0, status = 0;
+    fprintf(stderr, "accelbench: %s: %d rows%s; %d of this run's %d cells are done with the same options: %s\n",
+            csv_path, f->rows, runs, c->done, c->total,
+            o->redo ? "measuring them again (--redo), their rows replaced" : "skipping them (--redo measures them again)");
+    if (c->other_build)
+        fprintf(stderr, "accelbench: note: %d of them were measured by another build than this one (%s)%s\n",
+                c->other_build, ACCELBENCH_GIT_REV, o->redo ? "" : "; --redo measures them with this one");
+}
+
+/* run.txt: the command, the machine and the run id, appended for each
+ * invocation. Returns 0, or 1/2 after printing why. */
+static int write_run_info(const options *o, const char *info_path, const machine_info *mi, const run_cells *c)
+{
+    char text[8192], err[1200], cmd[4096];
+    cmd[0] = 0;
+    for (int i = 1; i < o->argc_full; i++) shell_word(cmd, sizeof cmd, o->argv_full[i]);
+    snprintf(text, sizeof text,
+             "command: %s\nrun_id: %s\nmachine: %s\ncpu: %s\ngit_rev: %s\ndate: %s\nthreads: %d\nrepeat: %d (timed "
+             "samples, each paired with one of Embree's at the same thread count, after 1 warm-up; medians reported)\n"
+             "cells: %d, of which %d were in matrix.csv already%s\n\n",
+             o->argc_full ? cmd : o->argv_line, run_id_current(), mi->host, mi->cpu, mi->git_rev, mi->date, o->threads,
+             o->repeat, c->total, c->done, c->done ? (o->redo ? " (measured again: --redo)" : " (skipped)") : "");
+    if (!signals_begin_write()) signals_end_write();
+    int rc = write_file_checked(info_path, "a", text, err, sizeof err);
+    signals_end_write();
+    if (rc == 0) return 0;
+    fprintf(stderr, "accelbench: %s\n", err);
+    return rc == -2 ? 2 : 1;
+}
+
+/* Measure one cell and file its row. Returns 0, 1 (a write failed) or 2. */
+static int run_one_cell(const options *o, results_store *store, const cell_rays *in, int si, int wi,
+                        const accel_config *ac, const cell_settings *settings, const rayset_t *replay_key, int index,
+                        int total)
+{
+    cell_result cr;
+    char key[CELL_KEY_MAX], err[1200];
+    if (measure_cell(in, ac, settings, &cr)) return 2;
+    if (run_cell_key(o, si, wi, ac, replay_key, key, sizeof key)) return 2;
+    snprintf(cr.row.cell_key, sizeof cr.row.cell_key, "%s", key);
+    char *text;
+    size_t len;
+    if (csv_format_row(&cr.row, &text, &len)) {
+        fprintf(stderr, "accelbench: out of memory formatting a row\n");
+        return 2;
+    }
+    /* The row goes in whole or not at all: a signal now waits for it. */
+    if (!signals_begin_write()) signals_end_write();
+    int rc = results_put(store, key, text, len, err, sizeof err);
+    signals_end_write();
+    free(text);
+    if (rc) {
+        fprintf(stderr, "accelbench: %s\n", err);
+        return 1;
+    }
+    signals_cell_done();
+    if (!o->quiet) print_progress(index, total, &cr);
+    return 0;
+}
+
+int matrix_run(options *o)
+{
+    char out_dir[1024], csv_path[1100], info_path[1100], err[1200];
+    /* Everything the command names is read or checked before the folder is touched. */
+    rayset_t *replay = NULL;
+    if (o->rays_file) {
+        replay = rayset_load(o->rays_file, err, sizeof err);
+        if (!replay) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            return 2;
+        }
+    }
+    int nw = o->rays_file ? 1 : o->nworkloads;
+    if (save_rays_check(o, o->nscenes * nw)) {
+        rayset_free(replay);
+        return 2;
+    }
+    /* Keys of a replay name its rays by hash; that copy outlives the set given to the first cell. */
+    rayset_t replay_key;
+    if (replay) replay_key = *replay;
+    const rayset_t *rk = replay ? &replay_key : NULL;
+
+    machine_info mi;
+    machine_describe(&mi);
+    if (output_folder(o->out, "", out_dir, sizeof out_dir)) {
+        rayset_free(replay);
+        return 2;
+    }
+    snprintf(csv_path, sizeof csv_path, "%s/matrix.csv", out_dir);
+    snprintf(info_path, sizeof info_path, "%s/run.txt", out_dir);
+
+    /* From here a signal abandons the cell in progress and says how to go on. */
+    char cmd[6144], msg[7000];
+    resume_command(o, out_dir, cmd, sizeof cmd);
+    snprintf(msg, sizeof msg, "Every finished cell is in %s; to resume (the cells there are skipped):\n  %s\n%s",
+             csv_path, cmd, o->redo ? "(with --redo, that measures every cell again, those this run redid too)\n" : "");
+    signals_install(msg);
+
+    results_found found;
+    int status;
+    if (!signals_begin_write()) signals_end_write();
+    results_store *store = results_open(out_dir, csv_path, &found, err, sizeof err, &status);
+    signals_end_write();
+    if (!store) {
+        fprintf(stderr, "accelbench: %s\n", err);
+        signals_restore();
+        rayset_free(replay);
+        return status;
+    }
+    run_cells cells;
+    status = plan_cells(o, store, rk, mi.git_rev, &cells);
+    if (status == 0) {
+        print_found(o, csv_path, &found, &cells);
+        status = write_run_info(o, info_path, &mi, &cells);
+    }
+
     cell_settings settings = {.threads = o->threads, .repeat = o->repeat, .width = o->wl.width, .height = o->wl.height,
                               .spp = o->wl.spp, .mi = &mi};
+    if (replay) settings.width = settings.height = settings.spp = 0; /* a replayed file's image is its own, or none */
+    int index = 0, measured = 0;
     double wall0 = clock_ms();
-    for (int si = 0; si < o->nscenes; si++) {
+    for (int si = 0; si < o->nscenes && status == 0; si++) {
+        /* A scene whose cells are all done is not even loaded (unless its rays are to be saved). */
+        if (!o->save_rays && !cells_to_run(&cells, o, si, -1)) {
+            index += cells_in(&cells, o, si, -1);
+            continue;
+        }
         accel *ref;
         verifier_t *ver;
         scene_t *s = open_scene(o, si, &ref, &ver);
@@ -146,33 +455,53 @@ int matrix_run(options *o)
             status = 2;
             break;
         }
-        int nw = o->rays_file ? 1 : o->nworkloads;
         for (int wi = 0; wi < nw && status == 0; wi++) {
+            if (!o->save_rays && !cells_to_run(&cells, o, si, wi)) {
+                index += cells_in(&cells, o, si, wi);
+                continue;
+            }
             cell_rays in;
-            if (cell_prepare(o, s, ref, ver, o->workloads[wi], &in)) {
+            if (cell_prepare(o, s, ref, ver, o->workloads[wi], &replay, &in)) {
                 status = 2;
                 break;
             }
-            if (o->save_rays && save_rays(o, in.rs, o->nscenes * nw)) status = 2;
+            if (o->save_rays) {
+                if (!signals_begin_write()) signals_end_write();
+                if (save_rays(o, in.rs, o->nscenes * nw)) status = 1;
+                signals_end_write();
+            }
+            if (in.rs->count == 0 && !o->quiet && status == 0)
+                fprintf(stderr, "  %s %s: the ray set has no rays: nothing is built or timed; its rows say rays 0, "
+                                "the measured columns empty\n", s->name, in.rs->workload);
             for (int ai = 0; ai < o->naccels && status == 0; ai++) {
-                const accel_config *ac = &o->accels[ai];
-                done++;
-                if (!accel_runs_workload(ac->ops, in.rs->query)) continue;
-                cell_result cr;
-                if (measure_cell(&in, ac, &settings, &cr)) {
-                    status = 2;
-                    break;
-                }
-                csv_write_row(csv, &cr.row);
-                if (!o->quiet) print_progress(done, total, &cr);
+                unsigned char st = *cell_state(&cells, o, si, wi, ai);
+                if (st == CELL_NONE) continue;
+                index++;
+                if (st == CELL_DONE) continue;
+                status = run_one_cell(o, store, &in, si, wi, &o->accels[ai], &settings, rk, index, cells.total);
+                measured += status == 0;
             }
             cell_rays_release(&in);
         }
         close_scene(s, ref, ver);
-        if (status) break;
     }
-    fclose(csv);
-    if (!o->quiet) fprintf(stderr, "wrote %s (%d cells, %.1f s)\n", csv_path, done, (clock_ms() - wall0) / 1e3);
+    /* Signals may end the process at once again: nothing is written after this. */
+    if (results_close(store, err, sizeof err) && status == 0) {
+        fprintf(stderr, "accelbench: %s\n", err);
+        status = 1;
+    }
+    signals_restore();
+    rayset_free(replay);
+    free(cells.state);
+    if (!o->quiet && status == 0) {
+        int skipped = index - measured;
+        if (measured == 0 && cells.total > 0)
+            fprintf(stderr, "nothing to measure: all %d cells of this run are in %s\n", cells.total, csv_path);
+        else
+            fprintf(stderr, "wrote %s (%d cells measured%s, %.1f s)\n", csv_path, measured,
+                    skipped ? ", the others done before" : "", (clock_ms() - wall0) / 1e3);
+    }
+    if (status == 1) fprintf(stderr, "accelbench: %s holds every cell finished before the failure\n", csv_path);
     if (o->plots && status == 0) run_plot_script("plot.py", csv_path, o->quiet);
     return status;
 }
@@ -262,6 +591,26 @@ int matrix_verify(options *o)
     int status = 0;
     bool any_real = false;
     uint64_t unjudged = 0;
+    /* The ray file is read, and --ray and --save-rays checked against it, before the table starts. */
+    char err[1200];
+    rayset_t *replay = NULL;
+    int nsets = o->nscenes * (o->rays_file ? 1 : o->nworkloads);
+    if (o->rays_file) {
+        replay = rayset_load(o->rays_file, err, sizeof err);
+        if (!replay) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            return 2;
+        }
+        if (o->ray_index >= (long)replay->count) {
+            fprintf(stderr, "accelbench: --ray %ld: %s has %u rays\n", o->ray_index, o->rays_file, replay->count);
+            rayset_free(replay);
+            return 2;
+        }
+    }
+    if (save_rays_check(o, nsets)) {
+        rayset_free(replay);
+        return 2;
+    }
     verify_widths w = table_widths(o);
     printf("%-*s %-*s %-*s", w.scene, "scene", w.workload, "workload", w.accel, "accel");
     for (int k = 0; k < VERIFY_NCOUNTS; k++) printf(" %9s", verify_counts[k]);
@@ -270,11 +619,14 @@ int matrix_verify(options *o)
         accel *ref;
         verifier_t *ver;
         scene_t *s = open_scene(o, si, &ref, &ver);
-        if (!s) return 2;
+        if (!s) {
+            rayset_free(replay);
+            return 2;
+        }
         int nw = o->rays_file ? 1 : o->nworkloads;
         for (int wi = 0; wi < nw && !status; wi++) {
             cell_rays in;
-            if (cell_prepare(o, s, ref, ver, o->workloads[wi], &in)) {
+            if (cell_prepare(o, s, ref, ver, o->workloads[wi], &replay, &in)) {
                 status = 2;
                 break;
             }
@@ -311,6 +663,7 @@ int matrix_verify(options *o)
         }
         close_scene(s, ref, ver);
     }
+    rayset_free(replay); /* NULL once a cell took it */
     fflush(stdout);
     if (unjudged)
         fprintf(stderr, "accelbench: %llu disputed rays were left unjudged: the judge's budget (--judge-seconds %g) ran out\n",

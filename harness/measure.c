@@ -35,7 +35,7 @@ int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_c
     memset(w, 0, sizeof *w);
     w->a = build_accel(ac, c->scene, &w->build_ms);
     if (!w->a) return -1;
-    w->threads = threads;
+    w->threads = accel_serial(w->a) ? 1 : threads; /* mutating or order-dependent: one thread */
     w->got = answers_new(c->rs, false);
     accel_reset(w->a);
     w->warm_ms = trace_rayset(w->a, c->rs, threads, w->got);
@@ -69,9 +69,43 @@ static int read_stats(const accel *a, const paired_timing *pt, accel_stat *st)
     return n;
 }
 
+/* The row's identity, its ray set's image and what no measurement needs. */
+static int row_frame(const cell_rays *c, const accel_config *ac, const cell_settings *st, int threads, csv_row *r)
+{
+    const rayset_t *rs = c->rs;
+    *r = (csv_row){
+        .scene = c->scene->name, .prims = c->scene->prims.count, .accel = ac->ops->name, .params = ac->params_str,
+        .workload = rs->workload, .rays = rs->count, .threads = threads, .seed = rs->seed, .rayset_hash = rs->hash,
+        .has_counters = !(ac->ops->flags & ACCEL_OPAQUE), .illposed_rays = c->illposed, .serial = threads != st->threads,
+        .repeat = st->repeat, .git_rev = st->mi->git_rev, .machine = st->mi->host, .cpu = st->mi->cpu,
+        .date = st->mi->date,
+    };
+    /* What ran: the ray set's own image and samples (a replayed file's), else the settings' (random has no image). */
+    bool image = rs->width > 0 && rs->height > 0;
+    r->width = image ? (int)rs->width : st->width;
+    r->height = image ? (int)rs->height : st->height;
+    r->spp = image ? (int)rs->spp : st->spp;
+    snprintf(r->run_id, sizeof r->run_id, "%s", run_id_current());
+    cell_key_parts k = {.scene = r->scene, .accel = r->accel, .params = r->params, .workload = r->workload,
+                        .wl = NULL, .rays_hash = rs->hash, .threads = st->threads, .repeat = st->repeat};
+    if (cell_key_format(&k, r->cell_key, sizeof r->cell_key)) {
+        fprintf(stderr, "accelbench: %s %s %s: the cell key is longer than %d bytes\n", r->scene, r->accel, r->workload,
+                CELL_KEY_MAX - 1);
+        return -1;
+    }
+    return 0;
+}
+
 int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_result *out)
 {
     const rayset_t *rs = c->rs;
+    memset(&out->vr, 0, sizeof out->vr);
+    csv_row *r = &out->row;
+    if (rs->count == 0) {
+        if (row_frame(c, ac, st, cell_threads(ac->ops, st->threads), r)) return -1;
+        r->no_rays = true;
+        return 0;
+    }
     warm_cell w;
     if (cell_warm_up(c, ac, cell_threads(ac->ops, st->threads), &w)) return -1;
     answers_t *scratch = answers_new(rs, false);
@@ -87,22 +121,24 @@ int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings
 
     const verify_result *vr = &w.vr;
     out->vr = w.vr;
-    csv_row *r = &out->row;
-    *r = (csv_row){
-        .scene = c->scene->name, .prims = c->scene->prims.count, .accel = ac->ops->name, .params = ac->params_str,
-        .workload = rs->workload, .rays = rs->count, .threads = w.threads, .seed = rs->seed, .rayset_hash = rs->hash,
-        .build_ms = w.build_ms, .trace_ms = pt.a.median, .trace_ms_min = pt.a.min, .trace_ms_max = pt.a.max,
-        .mrays_per_s = pt.a.median > 0 ? rs->count / (pt.a.median * 1e3) : 0, .ratio_vs_embree = pt.ratio,
-        .ratio_min = pt.ratio_min, .ratio_max = pt.ratio_max, .embree_ms = pt.e.median, .mem_bytes = w.a->ops->memory(w.a),
-        .has_counters = !(ac->ops->flags & ACCEL_OPAQUE), .counters = w.got->total, .agree = vr->agree,
-        .mismatch_real = vr->mismatches[MM_REAL], .mismatch_edge = vr->mismatches[MM_EDGE],
-        .mismatch_tol = vr->mismatches[MM_TOL], .mismatch_refwrong = vr->mismatches[MM_REFWRONG],
-        .mismatch_origin = vr->mismatches[MM_ORIGIN], .mismatch_unjudged = vr->mismatches[MM_UNJUDGED],
-        .illposed_rays = c->illposed, .judge_ms = vr->judge_ms, .serial = w.threads != st->threads,
-        .width = st->width, .height = st->height, .spp = st->spp, .repeat = st->repeat, .passes = sa.passes,
-        .timed_path = timed_path_name(w.a, rs->query), .git_rev = st->mi->git_rev, .machine = st->mi->host,
-        .cpu = st->mi->cpu, .date = st->mi->date,
-    };
+    if (row_frame(c, ac, st, w.threads, r)) {
+        warm_cell_release(&w);
+        return -1;
+    }
+    r->build_ms = w.build_ms;
+    r->trace_ms = pt.a.median, r->trace_ms_min = pt.a.min, r->trace_ms_max = pt.a.max;
+    r->mrays_per_s = pt.a.median > 0 ? rs->count / (pt.a.median * 1e3) : 0;
+    r->ratio_vs_embree = pt.ratio, r->ratio_min = pt.ratio_min, r->ratio_max = pt.ratio_max;
+    r->embree_ms = pt.e.median;
+    r->mem_bytes = w.a->ops->memory(w.a);
+    r->counters = w.got->total;
+    r->agree = vr->agree;
+    r->mismatch_real = vr->mismatches[MM_REAL], r->mismatch_edge = vr->mismatches[MM_EDGE];
+    r->mismatch_tol = vr->mismatches[MM_TOL], r->mismatch_refwrong = vr->mismatches[MM_REFWRONG];
+    r->mismatch_origin = vr->mismatches[MM_ORIGIN], r->mismatch_unjudged = vr->mismatches[MM_UNJUDGED];
+    r->judge_ms = vr->judge_ms;
+    r->passes = sa.passes;
+    r->timed_path = timed_path_name(w.a, rs->query);
     r->nstats = read_stats(w.a, &pt, r->stats);
     warm_cell_release(&w);
     return 0;

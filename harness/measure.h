@@ -8,7 +8,13 @@
  *   3. paired timing against the reference on the same rays at the same
  *      thread count (timing.h), through the counting-free methods when the
  *      accelerator has them: trace_ms and ratio_vs_embree with its spread;
- *   4. the CSV row, with the accelerator's statistics.
+ *   4. the CSV row, with the accelerator's statistics, this process's
+ *      run id and the cell's key (cellkey.h).
+ *
+ * A ray set of no rays (a shadow workload where no primary ray hits a lit
+ * surface, say) is not measured: nothing is built or timed, and its row
+ * says rays 0 with the measured columns empty (csv.h no_rays), instead of
+ * the times and ratios of tracing nothing.
  *
  * Data flows one way: scene -> ray set -> the reference's answers
  * (cell_rays) -> each accelerator's cell (cell_result). */
@@ -42,7 +48,7 @@ void cell_rays_release(cell_rays *c);
 typedef struct {
     int threads;            /* asked for; an ACCEL_MUTATES accelerator runs on 1 (cell_threads) */
     int repeat;             /* timed pairs */
-    int width, height, spp; /* the CSV's res and spp */
+    int width, height, spp; /* the CSV's res and spp where the ray set has no image of its own (random), 0 = none */
     const machine_info *mi;
 } cell_settings;
 
@@ -56,7 +62,9 @@ typedef struct {
 } warm_cell;
 
 typedef struct {
-    csv_row row;         /* complete; scene, accel, params and workload point into the cell's scene, config and rays */
+    csv_row row;         /* complete; scene, accel, params and workload point into the cell's scene, config and rays;
+                            its cell_key is the ray-set form (rays=HASH, cellkey.h), which run replaces by the
+                            options form when it made the rays itself */
     verify_result vr;
 } cell_result;
 
@@ -69,7 +77,8 @@ int cell_threads(const struct accel_ops *ops, int threads);
 int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_cell *w);
 void warm_cell_release(warm_cell *w);
 
-/* Steps 1-4. Returns 0, or -1 when the build failed (reported on stderr). */
+/* Steps 1-4 (none for a set of no rays). Returns 0, or -1 when the build
+ * failed or the cell key does not fit (reported on stderr). */
 int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_result *out);
 
 /* A row's statistics as "name value, name value" ("" when there are none). */

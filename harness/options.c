@@ -2,7 +2,9 @@
  * render (getopt_long). Every error is one line naming the option and the
  * value, and returns 2. */
 #include "options.h"
+#include "resources.h"
 #include "verify.h"
+#include "../prims/checked_alloc.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -12,7 +14,7 @@
 #include <unistd.h>
 
 enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
-       OPT_VIEW };
+       OPT_VIEW, OPT_REDO, OPT_MEMCAP };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -28,12 +30,18 @@ static const struct option long_opts[] = {
     {"heatmap", required_argument, NULL, OPT_HEATMAP}, {"quiet", no_argument, NULL, 'q'},
     {"judge-seconds", required_argument, NULL, OPT_JUDGE_SECONDS},
     {"view", required_argument, NULL, OPT_VIEW},
+    {"memcap", required_argument, NULL, OPT_MEMCAP},
+    {"redo", no_argument, NULL, OPT_REDO},
     {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
 };
 
 #define VIEW_USAGE \
     "  --view 'SPEC'           look from elsewhere: any of eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG, applied to every\n" \
     "                          scene after loading (as SCENE@SPEC; catalogue views: SCENE@NAME, accelbench list scenes)\n"
+
+#define MEMCAP_USAGE \
+    "  --memcap MIB            refuse work estimated above MIB MiB before allocating it (default: half the memory\n" \
+    "                          this process may use; also bounds accelerators' memcap; README: Limits and resources)\n"
 
 void options_usage(FILE *out, const char *cmd)
 {
@@ -47,7 +55,7 @@ void options_usage(FILE *out, const char *cmd)
                 "  --spp N                 samples per pixel (default 1)\n"
                 "  --param ACCEL.KEY=VALUE accelerator parameter (see accelbench list accels)\n"
                 "  --threads N             threads for the heat map's tracing (default: all cores)\n"
-                "%s", VIEW_USAGE);
+                "%s%s", VIEW_USAGE, MEMCAP_USAGE);
         return;
     }
     fprintf(out,
@@ -67,18 +75,35 @@ void options_usage(FILE *out, const char *cmd)
             "  --save-rays PATH        save the ray sets (a file for one set, else a folder)\n"
             "  --judge-seconds S       time the exact judge may spend on one cell's disputed rays; rays past it\n"
             "                          are counted as unjudged (default %g; 0 = no limit)\n"
-            "%s",
-            cmd, VERIFY_JUDGE_SECONDS, VIEW_USAGE);
+            "%s%s",
+            cmd, VERIFY_JUDGE_SECONDS, VIEW_USAGE, MEMCAP_USAGE);
     if (strcmp(cmd, "run") == 0)
         fprintf(out,
                 "  --repeat N              timed repeats after one warm-up; the median is reported (default 5)\n"
-                "  --out DIR               output folder (default results/<date-time>); matrix.csv is appended\n"
+                "  --out DIR               output folder (default results/<date-time>); matrix.csv is appended,\n"
+                "                          and cells it already has with the same options are skipped (resumes a run)\n"
+                "  --redo                  measure those cells again, replacing their rows\n"
                 "  --no-plots              do not call scripts/plot.py at the end\n"
-                "  Every cell is verified against Embree as it runs; mismatch counts go in the CSV.\n");
+                "  Every cell is verified against Embree as it runs; mismatch counts go in the CSV.\n"
+                "  SIGINT/SIGTERM abandon the cell in progress and print the command that resumes.\n"
+                "  Exit status: 0, 1 when a write failed (disk full ...), 2 on bad input, 128+N on signal N.\n");
     else
         fprintf(out,
                 "  --ray I                 replay ray I: print every answer and the exact judge's t for each\n"
                 "  Exit status: 0 when no real mismatch, 1 on any real mismatch, 2 on bad input.\n");
+}
+
+/* A copy of s that options_free releases: the lists point into it. */
+static char *owned_copy(options *o, const char *s)
+{
+    char **grown = realloc(o->owned, (size_t)(o->nowned + 1) * sizeof *grown);
+    char *dup = strdup(s);
+    if (!grown || !dup) {
+        fprintf(stderr, "accelbench: out of memory copying the options\n");
+        exit(2);
+    }
+    o->owned = grown;
+    return o->owned[o->nowned++] = dup;
 }
 
 /* Split a comma list in place into parts. */
@@ -116,8 +141,8 @@ static int parse_res(const char *s, workload_opts *w)
 {
     int x, y;
     char tail;
-    if (sscanf(s, "%dx%d%c", &x, &y, &tail) != 2 || x < 1 || y < 1 || x > 16384 || y > 16384) {
-        fprintf(stderr, "accelbench: --res %s: expected WxH with 1 <= W, H <= 16384\n", s);
+    if (sscanf(s, "%dx%d%c", &x, &y, &tail) != 2 || x < 1 || y < 1 || x > IMAGE_SIDE_MAX || y > IMAGE_SIDE_MAX) {
+        fprintf(stderr, "accelbench: --res %s: expected WxH with 1 <= W, H <= %d\n", s, IMAGE_SIDE_MAX);
         return -1;
     }
     w->width = x;
@@ -129,8 +154,7 @@ static char *join_args(int argc, char **argv)
 {
     size_t len = 1;
     for (int i = 0; i < argc; i++) len += strlen(argv[i]) + 3;
-    char *s = calloc(len, 1);
-    if (!s) abort();
+    char *s = checked_calloc(len, 1, "the command line's copy");
     for (int i = 0; i < argc; i++) {
         if (i) strcat(s, " ");
         bool q = strpbrk(argv[i], " \t'\"") != NULL;
@@ -148,8 +172,7 @@ static void add_view(options *o)
 {
     size_t total = 0, vlen = strlen(o->view);
     for (int i = 0; i < o->nscenes; i++) total += strlen(o->scenes[i]) + vlen + 2;
-    o->view_names = malloc(total ? total : 1);
-    if (!o->view_names) abort();
+    o->view_names = checked_malloc(total, "the scene names with their --view");
     char *p = o->view_names;
     for (int i = 0; i < o->nscenes; i++) {
         int n = sprintf(p, "%s@%s", o->scenes[i], o->view);
@@ -188,7 +211,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     while ((c = getopt_long(argc, argv, "hq", long_opts, NULL)) != -1) {
         switch (c) {
         case 's': {
-            char *dup = strdup(optarg);
+            char *dup = owned_copy(o, optarg);
             const char *items[OPT_LIST_MAX];
             int n = split(dup, items, OPT_LIST_MAX, "scenes");
             if (n < 0) return 2;
@@ -205,7 +228,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
                 const char *parts[OPT_LIST_MAX];
                 int m = 1;
                 if (set == 1) {
-                    m = split(strdup(expanded), parts, OPT_LIST_MAX, "scenes");
+                    m = split(owned_copy(o, expanded), parts, OPT_LIST_MAX, "scenes");
                     if (m < 0) return 2;
                     list = parts;
                 }
@@ -232,7 +255,8 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             char *end;
             errno = 0;
             unsigned long long s = strtoull(optarg, &end, 10);
-            if (errno || end == optarg || *end) { fprintf(stderr, "accelbench: --seed %s: expected an unsigned integer\n", optarg); return 2; }
+            /* strtoull takes "-1" as 2^64 - 1: a sign is refused, not wrapped */
+            if (errno || end == optarg || *end || strchr(optarg, '-') || strchr(optarg, '+')) { fprintf(stderr, "accelbench: --seed %s: expected an unsigned integer\n", optarg); return 2; }
             o->wl.seed = s;
             break;
         }
@@ -244,6 +268,13 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         case OPT_RAYS: o->rays_file = optarg; break;
         case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
         case OPT_NO_PLOTS: o->plots = false; break;
+        case OPT_REDO:
+            if (strcmp(cmd, "run") != 0) {
+                fprintf(stderr, "accelbench %s: --redo is an option of run (see accelbench run --help)\n", cmd);
+                return 2;
+            }
+            o->redo = true;
+            break;
         case OPT_HEATMAP:
             if (strcmp(optarg, "tests") && strcmp(optarg, "steps")) {
                 fprintf(stderr, "accelbench: --heatmap %s: expected tests or steps\n", optarg);
@@ -260,6 +291,14 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
                 return 2;
             }
             o->judge_seconds = j;
+            break;
+        }
+        case OPT_MEMCAP: {
+            char why[256];
+            if (resources_parse_memcap(optarg, &o->memcap_mib, why, sizeof why)) {
+                fprintf(stderr, "accelbench: %s\n", why);
+                return 2;
+            }
             break;
         }
         case OPT_VIEW: {
@@ -306,7 +345,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
 
     /* Accelerators, then their parameters. */
     const char *names[OPT_LIST_MAX];
-    char *dup = strdup(accels_arg);
+    char *dup = owned_copy(o, accels_arg);
     int na = split(dup, names, OPT_LIST_MAX, "accelerators");
     if (na < 0) return 2;
     for (int i = 0; i < na; i++) {
@@ -345,6 +384,8 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             return 2;
         }
     }
+    /* The memory cap, and every accelerator's memcap bounded by it, before the parameters are written down. */
+    if (resources_apply_memcap(o)) return 2;
     for (int i = 0; i < o->naccels; i++) {
         accel_config *ac = &o->accels[i];
         params_format(&ac->params, ac->params_str, sizeof ac->params_str);
@@ -365,7 +406,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         for (int i = 0; workload_table[i].name; i++) o->workloads[o->nworkloads++] = &workload_table[i];
     } else {
         const char *wn[OPT_LIST_MAX];
-        char *wdup = strdup(workloads_arg);
+        char *wdup = owned_copy(o, workloads_arg);
         int nw = split(wdup, wn, OPT_LIST_MAX, "workloads");
         if (nw < 0) return 2;
         for (int i = 0; i < nw; i++) {
@@ -382,6 +423,8 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         return 2;
     }
     o->wl.threads = o->threads;
+    /* What the options size (threads, ray sets, generated scenes), refused before the first scene loads. */
+    if (resources_check_options(o, cmd)) return 2;
     return 0;
 }
 
@@ -389,6 +432,8 @@ void options_free(options *o)
 {
     free(o->argv_line);
     free(o->view_names);
+    for (int i = 0; i < o->nowned; i++) free(o->owned[i]);
+    free(o->owned);
 }
 
 /* Append one shell word, quoted when it holds anything the shell would split or expand. */

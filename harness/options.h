@@ -31,6 +31,9 @@ typedef struct {
     const char *save_rays;
     long ray_index;       /* verify --ray I, or -1 */
     bool plots;           /* run: call scripts/plot.py at the end */
+    bool redo;            /* run --redo: measure cells the CSV already has again, replacing their rows (resume.h) */
+    int argc_full;        /* main's argc and argv (set by main.c): run prints the command that resumes it */
+    char **argv_full;
     const char *heatmap;  /* render: NULL, "tests" or "steps" */
     bool quiet;
     bool res_given;       /* --res was on the command line */
@@ -38,6 +41,9 @@ typedef struct {
     char *argv_line;      /* the command as typed, for run.txt */
     const char *view;     /* --view SPEC (scene_view_parse), or NULL; every scenes[i] then ends in "@SPEC" */
     char *view_names;     /* the storage of those scene names */
+    uint64_t memcap_mib;  /* --memcap MIB, 0 for the default (scenes/memory_cap.h, harness/resources.h) */
+    char **owned;         /* copies of option strings the lists point into, freed by options_free */
+    int nowned;
 } options;
 
 /* Parse the options of subcommand `cmd` (run, verify, render). Returns 0,

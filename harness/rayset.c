@@ -1,6 +1,8 @@
 /* rayset.c: ray set storage, hashing and the ray file (see rayset.h). */
 #include "rayset.h"
 #include "workload.h"
+#include "../prims/checked_alloc.h"
+#include "../scenes/memory_cap.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -22,8 +24,7 @@ typedef struct {
 
 rayset_t *rayset_new(const char *workload, const char *scene, uint64_t seed, query_kind q)
 {
-    rayset_t *rs = calloc(1, sizeof *rs);
-    if (!rs) abort();
+    rayset_t *rs = checked_calloc(1, sizeof *rs, "a ray set");
     snprintf(rs->workload, sizeof rs->workload, "%s", workload);
     snprintf(rs->scene, sizeof rs->scene, "%s", scene);
     rs->seed = seed;
@@ -33,18 +34,14 @@ rayset_t *rayset_new(const char *workload, const char *scene, uint64_t seed, que
 
 void rayset_push(rayset_t *rs, const ray_t *r, uint32_t pixel)
 {
-    if (rs->count == UINT32_MAX) { /* the count is a uint32 in memory and in the file */
-        fprintf(stderr, "accelbench: a ray set of more than 2^32 - 1 rays\n");
-        abort();
+    if (rs->count == UINT32_MAX) { /* the count is a uint32 in memory and in the file; the workloads' estimates refuse first */
+        fprintf(stderr, "accelbench: %s on %s: a ray set holds at most 2^32 - 1 rays\n", rs->workload, rs->scene);
+        exit(2);
     }
     if (rs->count == rs->cap) {
         rs->cap = rs->cap > UINT32_MAX / 2 ? UINT32_MAX : rs->cap ? rs->cap * 2 : 4096;
-        rs->rays = realloc(rs->rays, (size_t)rs->cap * sizeof *rs->rays);
-        if (rs->width) rs->pixel = realloc(rs->pixel, (size_t)rs->cap * sizeof *rs->pixel);
-        if (!rs->rays || (rs->width && !rs->pixel)) {
-            fprintf(stderr, "accelbench: out of memory for %u rays\n", rs->cap);
-            abort();
-        }
+        rs->rays = checked_realloc(rs->rays, (size_t)rs->cap * sizeof *rs->rays, "a ray set's rays");
+        if (rs->width) rs->pixel = checked_realloc(rs->pixel, (size_t)rs->cap * sizeof *rs->pixel, "a ray set's pixels");
     }
     rs->rays[rs->count] = *r;
     if (rs->pixel) rs->pixel[rs->count] = pixel;
@@ -116,8 +113,10 @@ int rayset_save(const rayset_t *rs, const char *path, char *err, size_t errlen)
     memcpy(h.workload, rs->workload, sizeof h.workload);
     memcpy(h.scene, rs->scene, sizeof h.scene);
     h.hash = file_hash(h, rs->rays, rs->pixel);
-    bool ok = fwrite(&h, sizeof h, 1, f) == 1 && fwrite(rs->rays, sizeof *rs->rays, rs->count, f) == rs->count &&
-              (!rs->pixel || fwrite(rs->pixel, sizeof *rs->pixel, rs->count, f) == rs->count);
+    /* fwrite of 0 items from a NULL array (a set of 0 rays) is undefined: skip it. */
+    bool ok = fwrite(&h, sizeof h, 1, f) == 1 &&
+              (!rs->count || fwrite(rs->rays, sizeof *rs->rays, rs->count, f) == rs->count) &&
+              (!rs->count || !rs->pixel || fwrite(rs->pixel, sizeof *rs->pixel, rs->count, f) == rs->count);
     if (fclose(f) != 0) ok = false;
     if (!ok) {
         snprintf(err, errlen, "%s: write failed: %s", path, strerror(errno));
@@ -193,8 +192,8 @@ rayset_t *rayset_from_memory(const void *data, size_t size, const char *path, ch
                  path, h.count, (size_t)h.count * per_ray, body);
         return NULL;
     }
-    rs = calloc(1, sizeof *rs);
-    if (!rs) abort();
+    if (memory_cap_exceeded((uint64_t)h.count * per_ray, err, errlen, "%s: %u rays", path, h.count)) return NULL;
+    rs = checked_calloc(1, sizeof *rs, "a ray set");
     rs->count = rs->cap = h.count;
     rs->rays = malloc((size_t)(h.count ? h.count : 1) * sizeof *rs->rays);
     if (h.has_pixels) rs->pixel = malloc((size_t)(h.count ? h.count : 1) * sizeof *rs->pixel);
@@ -246,7 +245,12 @@ rayset_t *rayset_load(const char *path, char *err, size_t errlen)
         return NULL;
     }
     long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    char *data = size >= 0 ? malloc((size_t)size + 1) : NULL;
+    /* Read whole, then copied into the set: twice the file at the peak. */
+    if (size >= 0 && memory_cap_exceeded(2 * (uint64_t)size, err, errlen, "%s: a ray file of %ld bytes, read and copied,", path, size)) {
+        fclose(f);
+        return NULL;
+    }
+    char *data = size >= 0 ? checked_malloc((size_t)size + 1, "a ray file's contents") : NULL;
     bool ok = data && fseek(f, 0, SEEK_SET) == 0 && fread(data, 1, (size_t)size, f) == (size_t)size;
     fclose(f);
     rayset_t *rs = NULL;

@@ -13,7 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "image.h"
+#include "resources.h"
 #include "trace.h"
+#include "../prims/checked_alloc.h"
 
 #define RENDER_DEPTH 3
 
@@ -54,8 +56,7 @@ static vec3 shade(shader_t *sh, const ray_t *r, int depth)
 image_t *render_whitted(const scene_t *s, accel *a, const rayset_t *prim, counters_t *work)
 {
     image_t *im = image_new((int)prim->width, (int)prim->height);
-    vec3 *sum = calloc((size_t)prim->width * prim->height, sizeof *sum);
-    if (!sum) abort();
+    vec3 *sum = checked_calloc((size_t)prim->width * prim->height, sizeof *sum, "an image's colour sums");
     shader_t sh = {.s = s, .a = a, .ctx = a->ops->context_new ? a->ops->context_new(a) : NULL,
                    .light_scale = s->nlights ? 1.0f / sqrtf((float)s->nlights) : 1.0f};
     for (uint32_t i = 0; i < prim->count; i++) sum[prim->pixel[i]] = v3_add(sum[prim->pixel[i]], shade(&sh, &prim->rays[i], 1));
@@ -92,10 +93,9 @@ static int render_heatmap(const options *o, const scene_t *s, accel *a, const ra
         return 2;
     }
     answers_t *ans = answers_new(prim, true);
-    trace_rayset(a, prim, (a->ops->flags & ACCEL_MUTATES) ? 1 : o->threads, ans);
+    trace_rayset(a, prim, accel_serial(a) ? 1 : o->threads, ans);
     size_t npix = (size_t)prim->width * prim->height;
-    double *cost = calloc(npix, sizeof *cost);
-    if (!cost) abort();
+    double *cost = checked_calloc(npix, sizeof *cost, "a heat map's per-pixel costs");
     bool steps = strcmp(o->heatmap, "steps") == 0;
     for (uint32_t i = 0; i < prim->count; i++)
         cost[prim->pixel[i]] += (double)(steps ? ans->per_ray[i].steps : ans->per_ray[i].prim_tests) / prim->spp;
@@ -136,16 +136,24 @@ int render_main(options *o)
         fprintf(stderr, "accelbench: %s\n", err);
         return 2;
     }
+    workload_opts wl = o->wl;
+    if (!o->res_given) {
+        wl.width = s->camera.width > 0 ? s->camera.width : 512;
+        wl.height = s->camera.height > 0 ? s->camera.height : 512;
+    }
+    /* The image's memory before the build and the rays (resources.h);
+     * with --res it was checked before the scene loaded, without it the
+     * size is the scene's own, known only now. */
+    if (resources_check_render(s->name, wl.width, wl.height, wl.spp, wl.corners, o->heatmap != NULL, err, sizeof err)) {
+        fprintf(stderr, "accelbench: %s%s\n", err, o->res_given ? "" : " (the scene's own resolution: --res sets another)");
+        scene_free(s);
+        return 2;
+    }
     accel *a = accel_build(ac->ops, s, &ac->params, err, sizeof err);
     if (!a) {
         fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", ac->ops->name, s->name, err);
         scene_free(s);
         return 2;
-    }
-    workload_opts wl = o->wl;
-    if (!o->res_given) {
-        wl.width = s->camera.width > 0 ? s->camera.width : 512;
-        wl.height = s->camera.height > 0 ? s->camera.height : 512;
     }
     rayset_t *prim = workload_primary(s, &wl);
     int rc = o->heatmap ? render_heatmap(o, s, a, prim) : render_image(o, s, a, prim);

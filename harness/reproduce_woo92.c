@@ -63,6 +63,8 @@
 #include <string.h>
 #include "csv.h"
 #include "output.h"
+#include "resources.h"
+#include "../prims/checked_alloc.h"
 #include "trace.h"
 #include "workload.h"
 
@@ -116,6 +118,7 @@ void reproduce_usage(FILE *out)
 {
     fprintf(out,
             "usage: accelbench reproduce EXPERIMENT [--out DIR] [--threads N] [--repeat N] [--quick] [--no-plots] [--quiet]\n"
+            "                                  [--memcap MIB]\n"
             "  Re-runs a paper's experiments on our scenes and prints the paper's tables with OUR\n"
             "  numbers, each under a \"finding:\" line that compares them with the paper's.\n"
             "  experiments:\n"
@@ -138,6 +141,8 @@ void reproduce_usage(FILE *out)
             "  --quick        small images and 1 repeat: the same tables in seconds (for tests only)\n"
             "  --no-plots     do not call scripts/plot_woo92.py at the end\n"
             "  --quiet        no progress on stderr\n"
+            "  --memcap MIB   refuse work estimated above MIB MiB before allocating it (default: half the memory\n"
+            "                 this process may use; README: Limits and resources)\n"
             "  Every measurement is verified against Embree: exit 1 on any real mismatch, 2 on bad input.\n"
             "  A default run takes a few minutes on one core.\n");
 }
@@ -351,6 +356,7 @@ static meas *measure(rp_run *r, const char *table, const char *variant, const ch
     }
     params_defaults(&ac.params, ac.ops->params);
     ac.params.threads = 1;
+    if (resources_bound_memcap_param(ac.ops->name, &ac.params)) return NULL; /* its memcap within --memcap */
     if (params_set_list(&ac.params, settings, err, sizeof err)) {
         fprintf(stderr, "accelbench: reproduce: %s.%s\n", name, err);
         return NULL;
@@ -412,8 +418,10 @@ static int find_new_rows(rp_run *r)
     accel_params d, p;
     char ds[512], ps[512], err[256], cum[600] = OLD_SETTINGS;
     params_defaults(&d, ops->params);
-    params_format(&d, ds, sizeof ds);
     params_defaults(&p, ops->params);
+    /* as measure() sets them, so that the two strings differ only where the rows do */
+    if (resources_bound_memcap_param(ops->name, &d) || resources_bound_memcap_param(ops->name, &p)) return 2;
+    params_format(&d, ds, sizeof ds);
     if (params_set_list(&p, cum, err, sizeof err)) return 2;
     for (int k = 0; k < ABL_N; k++) {
         if (woo92_abl_steps[k].set[0] && params_set_list(&p, woo92_abl_steps[k].set, err, sizeof err)) return 2;
@@ -490,8 +498,11 @@ static int parse(rp_opts *o, int argc, char **argv)
         {"out", required_argument, NULL, 'o'},  {"threads", required_argument, NULL, 't'},
         {"repeat", required_argument, NULL, 'n'}, {"quick", no_argument, NULL, 'k'},
         {"no-plots", no_argument, NULL, 'P'},   {"quiet", no_argument, NULL, 'q'},
+        {"memcap", required_argument, NULL, 'M'},
         {"help", no_argument, NULL, 'h'},       {NULL, 0, NULL, 0},
     };
+    uint64_t memcap_mib = 0; /* --memcap MIB; 0: the default (scenes/memory_cap.h) */
+    char why[512];
     memset(o, 0, sizeof *o);
     o->threads = 1;
     o->repeat = 3;
@@ -517,6 +528,12 @@ static int parse(rp_opts *o, int argc, char **argv)
             else o->repeat = (int)v, o->repeat_given = true;
             break;
         case 'k': o->quick = true; break;
+        case 'M':
+            if (resources_parse_memcap(optarg, &memcap_mib, why, sizeof why)) {
+                fprintf(stderr, "accelbench reproduce: %s\n", why);
+                return 2;
+            }
+            break;
         case 'P': o->plots = false; break;
         case 'q': o->quiet = true; break;
         case 'h': reproduce_usage(stdout); return 1;
@@ -531,6 +548,12 @@ static int parse(rp_opts *o, int argc, char **argv)
         return 2;
     }
     if (o->quick && !o->repeat_given) o->repeat = 1;
+    /* The memory cap, and the threads' stacks against it (resources.h). */
+    memory_cap_set_mib(memcap_mib);
+    if (resources_check_threads(o->threads, "--threads", why, sizeof why)) {
+        fprintf(stderr, "accelbench reproduce: %s\n", why);
+        return 2;
+    }
     return 0;
 }
 
@@ -556,14 +579,24 @@ static int reproduce_woo92(int argc, char **argv)
     }
     char header[CSV_HEADER_MAX];
     csv_header(header, sizeof header);
-    fprintf(r->csv, "table,variant,grid_res,%s\n", header);
-    fflush(r->csv);
+    if (fprintf(r->csv, "table,variant,grid_res,%s\n", header) < 0 || fflush(r->csv) != 0) {
+        fprintf(stderr, "accelbench: %s: write failed: %s\n", csv_path, strerror(errno));
+        fclose(r->csv);
+        return 1;
+    }
     r->wall0 = clock_ms();
     if (!r->o.quiet)
         fprintf(stderr, "reproduce woo92: %s mode, timed traces on 1 thread, %d repeat%s, writing %s\n",
                 r->o.quick ? "quick" : "default", r->o.repeat, r->o.repeat == 1 ? "" : "s", out_dir);
     rc = run_experiments(r);
-    fclose(r->csv);
+    /* Every row went through stdio: its error flag and the close say whether all of them reached the file. */
+    bool csv_ok = !ferror(r->csv) && fflush(r->csv) == 0;
+    int csv_errno = errno;
+    if (fclose(r->csv) != 0 && csv_ok) csv_ok = false, csv_errno = errno;
+    if (!csv_ok && rc == 0) {
+        fprintf(stderr, "accelbench: %s: write failed: %s\n", csv_path, strerror(csv_errno));
+        rc = 1;
+    }
     if (rc) {
         close_scene(r);
         figures_free(r->woo.f);
@@ -574,7 +607,7 @@ static int reproduce_woo92(int argc, char **argv)
     char *md = NULL;
     size_t mdlen = 0;
     FILE *f = open_memstream(&md, &mdlen);
-    if (!f) abort();
+    if (!f) checked_alloc_failed(0, "the tables' Markdown (open_memstream)");
     woo92_report(r, f);
     fprintf(f, "Measured in %.0f s (%d measurements). CSV: %s\n", wall_s, r->nmeas, csv_path);
     fclose(f);
@@ -583,13 +616,19 @@ static int reproduce_woo92(int argc, char **argv)
     fflush(stdout);
     snprintf(path, sizeof path, "%s/woo92_tables.md", out_dir);
     FILE *mf = fopen(path, "w");
-    if (!mf || fputs(md, mf) == EOF) {
+    if (!mf) {
         fprintf(stderr, "accelbench: %s: cannot write: %s\n", path, strerror(errno));
         free(md);
-        if (mf) fclose(mf);
         return 2;
     }
-    fclose(mf);
+    bool md_ok = fputs(md, mf) != EOF && fflush(mf) == 0;
+    int md_errno = errno;
+    if (fclose(mf) != 0 && md_ok) md_ok = false, md_errno = errno;
+    if (!md_ok) {
+        fprintf(stderr, "accelbench: %s: write failed: %s\n", path, strerror(md_errno));
+        free(md);
+        return 1;
+    }
     free(md);
     if (!r->o.quiet) fprintf(stderr, "wrote %s and %s (%.1f s)\n", csv_path, path, wall_s);
     if (r->o.plots) run_plot_script("plot_woo92.py", csv_path, r->o.quiet);

@@ -1,8 +1,10 @@
 /* scene_cmd.c: looking at scenes without tracing them.
  *
- *   accelbench scene info SCENE [SCENE ...] [--view SPEC]   counts by kind, bounds, lights, view, geometry hash
- *   accelbench scene export SCENE --nff FILE                write the scene as NFF (exact %.9g round trip)
- * A view is given as SCENE@VIEW or --view, as for run (scene_load applies it). */
+ *   accelbench scene info SCENE [SCENE ...] [--view SPEC] [--memcap MIB]   counts by kind, bounds, lights, view, hash
+ *   accelbench scene export SCENE --nff FILE [--memcap MIB]                 the scene as NFF (exact %.9g round trip)
+ * A view is given as SCENE@VIEW or --view, as for run (scene_load applies it);
+ * --memcap is the memory cap a generated scene's estimate is checked
+ * against before it is generated (scenes/memory_cap.h). */
 #include "scene_cmd.h"
 
 #include <inttypes.h>
@@ -10,17 +12,20 @@
 #include <string.h>
 #include "../scenes/nff.h"
 #include "../scenes/scene.h"
+#include "resources.h"
 #include "trace.h"
 
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: accelbench scene info SCENE [SCENE ...] [--view SPEC]\n"
-            "       accelbench scene export SCENE --nff FILE\n"
+            "usage: accelbench scene info SCENE [SCENE ...] [--view SPEC] [--memcap MIB]\n"
+            "       accelbench scene export SCENE --nff FILE [--memcap MIB]\n"
             "  info    primitive counts by kind, bounds, lights, view and a hash of the primitives\n"
             "          (the same hash for the same geometry, whatever file or generator it came from);\n"
             "          SCENE@VIEW or --view 'eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG' moves the camera\n"
-            "  export  write the scene as NFF; reading it back gives the same hash\n");
+            "  export  write the scene as NFF; reading it back gives the same hash\n"
+            "  --memcap MIB  refuse a scene estimated above MIB MiB before making it (default: half the memory\n"
+            "                this process may use; README: Limits and resources)\n");
 }
 
 static void print_info(const scene_t *s, double load_ms)
@@ -44,6 +49,24 @@ static void print_info(const scene_t *s, double load_ms)
     printf("load_ms    %.1f\n", load_ms);
 }
 
+/* --memcap MIB at argv[*i] (the value next): sets the cap. 0, or 2 after the error line. */
+static int take_memcap(int argc, char **argv, int *i, const char *action, bool *given)
+{
+    uint64_t mib;
+    char why[256];
+    if (*i + 1 == argc || *given) {
+        fprintf(stderr, "accelbench scene %s: %s\n", action, *given ? "--memcap given twice" : "--memcap needs MIB");
+        return 2;
+    }
+    if (resources_parse_memcap(argv[++*i], &mib, why, sizeof why)) {
+        fprintf(stderr, "accelbench scene %s: %s\n", action, why);
+        return 2;
+    }
+    memory_cap_set_mib(mib);
+    *given = true;
+    return 0;
+}
+
 int scene_cmd_main(int argc, char **argv)
 {
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
@@ -54,7 +77,12 @@ int scene_cmd_main(int argc, char **argv)
     if (!strcmp(argv[1], "info")) {
         const char *view = NULL;
         int nnames = 0;
+        bool memcap = false;
         for (int i = 2; i < argc; i++) {
+            if (strcmp(argv[i], "--memcap") == 0) {
+                if (take_memcap(argc, argv, &i, "info", &memcap)) return 2;
+                continue;
+            }
             if (strcmp(argv[i], "--view") != 0) {
                 argv[2 + nnames++] = argv[i];
                 continue;
@@ -90,8 +118,20 @@ int scene_cmd_main(int argc, char **argv)
         return 0;
     }
     if (!strcmp(argv[1], "export")) {
-        if (argc != 5 || strcmp(argv[3], "--nff")) {
-            fprintf(stderr, "accelbench scene export: usage: accelbench scene export SCENE --nff FILE\n");
+        const char *nff = NULL;
+        bool memcap = false;
+        for (int i = 3; i < argc; i++) {
+            if (!strcmp(argv[i], "--memcap")) {
+                if (take_memcap(argc, argv, &i, "export", &memcap)) return 2;
+            } else if (!strcmp(argv[i], "--nff") && i + 1 < argc && !nff) {
+                nff = argv[++i];
+            } else {
+                nff = NULL;
+                break;
+            }
+        }
+        if (argc < 3 || !nff) {
+            fprintf(stderr, "accelbench scene export: usage: accelbench scene export SCENE --nff FILE [--memcap MIB]\n");
             return 2;
         }
         scene_t *s = scene_load(argv[2], err, sizeof err);
@@ -99,9 +139,9 @@ int scene_cmd_main(int argc, char **argv)
             fprintf(stderr, "accelbench: %s\n", err);
             return 2;
         }
-        int rc = scene_write_nff(s, argv[4], err, sizeof err);
+        int rc = scene_write_nff(s, nff, err, sizeof err);
         if (rc) fprintf(stderr, "accelbench: %s\n", err);
-        else printf("wrote %s: %u primitives, hash %016" PRIx64 "\n", argv[4], s->prims.count, scene_geometry_hash(s));
+        else printf("wrote %s: %u primitives, hash %016" PRIx64 "\n", nff, s->prims.count, scene_geometry_hash(s));
         scene_free(s);
         return rc ? 2 : 0;
     }

@@ -1,5 +1,6 @@
 /* timing.c: paired timing (see timing.h). */
 #include "timing.h"
+#include "../prims/checked_alloc.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -77,8 +78,7 @@ paired_timing timing_pairs(const timed_series *a, const timed_series *e, const r
                            answers_t *scratch)
 {
     if (repeat < 1) repeat = 1;
-    double *buf = calloc(5 * (size_t)repeat, sizeof *buf);
-    if (!buf) abort();
+    double *buf = checked_calloc(5 * (size_t)repeat, sizeof *buf, "the timed samples");
     double *ams = buf, *ems = buf + repeat, *ratio = buf + 2 * repeat, *alazy = buf + 3 * repeat,
            *elazy = buf + 4 * repeat;
     for (int k = 0; k < repeat; k++) {

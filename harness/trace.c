@@ -1,5 +1,7 @@
 /* trace.c: the threaded trace loop (see trace.h). */
 #include "trace.h"
+#include "resources.h"
+#include "../prims/checked_alloc.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -21,18 +23,22 @@ double clock_ms(void)
 
 answers_t *answers_new(const rayset_t *rs, bool per_ray_counters)
 {
-    answers_t *a = calloc(1, sizeof *a);
+    /* Covered by the ray set's estimate when a workload made it; checked
+     * here too for every other caller (resources.h). No error path: exit 2. */
+    char err[512];
+    if (memory_cap_exceeded(resources_answers_bytes(rs->count, rs->query, per_ray_counters), err, sizeof err,
+                            "the answers of %u rays of %s", rs->count, rs->workload)) {
+        fflush(stdout);
+        fprintf(stderr, "accelbench: %s\n", err);
+        exit(2);
+    }
+    answers_t *a = checked_calloc(1, sizeof *a, "a trace's answers");
     size_t n = rs->count ? rs->count : 1;
-    if (!a) abort();
     a->query = rs->query;
     a->count = rs->count;
-    if (rs->query == QUERY_CLOSEST) a->hits = calloc(n, sizeof *a->hits);
-    else a->occluded = calloc(n, 1);
-    if (per_ray_counters) a->per_ray = calloc(n, sizeof *a->per_ray);
-    if ((!a->hits && !a->occluded) || (per_ray_counters && !a->per_ray)) {
-        fprintf(stderr, "accelbench: out of memory for the answers of %u rays\n", rs->count);
-        abort();
-    }
+    if (rs->query == QUERY_CLOSEST) a->hits = checked_calloc(n, sizeof *a->hits, "a trace's hits");
+    else a->occluded = checked_calloc(n, 1, "a trace's occlusion answers");
+    if (per_ray_counters) a->per_ray = checked_calloc(n, sizeof *a->per_ray, "a trace's per-ray counters");
     return a;
 }
 
@@ -182,20 +188,30 @@ double trace_rayset_passes(accel *a, const rayset_t *rs, int threads, int passes
      * workloads make are all traceable, so the timed loops carry no test. */
     for (uint32_t i = 0; i < rs->count && !job.guarded; i++) job.guarded = !ray_traceable(&rs->rays[i]);
     atomic_init(&job.next, 0);
-    worker_t *w = calloc((size_t)threads, sizeof *w);
-    pthread_t *tid = calloc((size_t)threads, sizeof *tid);
-    if (!w || !tid) abort();
+    worker_t *w = checked_calloc((size_t)threads, sizeof *w, "the tracing threads' state");
+    pthread_t *tid = checked_calloc((size_t)threads, sizeof *tid, "the tracing threads' ids");
     for (int t = 0; t < threads; t++) {
         w[t].job = &job;
         w[t].ctx = a->ops->context_new ? a->ops->context_new(a) : NULL;
     }
     double t0 = clock_ms();
     /* Thread 0 is the calling thread: one thread means no thread creation. */
-    for (int t = 1; t < threads; t++)
-        if (pthread_create(&tid[t], NULL, worker_main, &w[t]) != 0) {
-            fprintf(stderr, "accelbench: pthread_create failed\n");
-            abort();
+    /* The thread count was checked against the memory cap when it was
+     * given (resources.h); a machine that still cannot start one is an
+     * exit 2 that says so, not an abort. The threads already started are
+     * stopped (no work left to take) and joined first, so that nothing
+     * traces while the process exits. */
+    for (int t = 1; t < threads; t++) {
+        int rc = pthread_create(&tid[t], NULL, worker_main, &w[t]);
+        if (rc != 0) {
+            atomic_store(&job.next, job.total);
+            for (int k = 1; k < t; k++) pthread_join(tid[k], NULL);
+            fflush(stdout);
+            fprintf(stderr, "accelbench: cannot start tracing thread %d of %d: %s (%.1f MiB of stack each); lower --threads\n",
+                    t + 1, threads, strerror(rc), (double)resources_thread_stack_bytes() / 1048576.0);
+            exit(2);
         }
+    }
     worker_main(&w[0]);
     for (int t = 1; t < threads; t++) pthread_join(tid[t], NULL);
     double ms = clock_ms() - t0;

@@ -1,5 +1,6 @@
 /* verify.c: agreement and mismatch classes (see verify.h). */
 #include "verify.h"
+#include "../prims/checked_alloc.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -19,8 +20,7 @@ struct verifier {
 
 verifier_t *verifier_new(const scene_t *s, double judge_seconds)
 {
-    verifier_t *v = calloc(1, sizeof *v);
-    if (!v) abort();
+    verifier_t *v = checked_calloc(1, sizeof *v, "the verifier");
     v->s = s;
     v->judge = judge_new(s);
     v->judge_seconds = judge_seconds;
@@ -134,8 +134,7 @@ static judge_hit float_first_hit(judging *jg, const ray_t *r)
     int n = judge_candidates(v->judge, r, v->cand, v->cand_cap);
     if (n > v->cand_cap) {
         v->cand_cap = n;
-        v->cand = realloc(v->cand, (size_t)n * sizeof *v->cand);
-        if (!v->cand) abort();
+        v->cand = checked_realloc(v->cand, (size_t)n * sizeof *v->cand, "the judge's candidate primitives");
         n = judge_candidates(v->judge, r, v->cand, v->cand_cap);
     }
     hit_t h = hit_none(r);

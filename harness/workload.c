@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "resources.h"
 #include "rng.h"
 #include "trace.h"
 
@@ -86,9 +87,24 @@ rayset_t *workload_primary(const scene_t *s, const workload_opts *o)
     return rs;
 }
 
+/* The set's estimate against the memory cap before any of it is made
+ * (resources.h, which also says what it counts). The table's make() has no
+ * error path, so a refusal is exit 2 with its line, as for the random
+ * workload's box. run and verify have checked the same at one light before
+ * their first scene; here the scene's lights are known. */
+static void require_memory(const char *name, const scene_t *s, const workload_opts *o)
+{
+    char err[1024];
+    if (resources_check_workload(name, s->name, o, s->nlights, err, sizeof err) == 0) return;
+    fflush(stdout);
+    fprintf(stderr, "accelbench: %s\n", err);
+    exit(2);
+}
+
 static rayset_t *make_primary(const scene_t *s, accel *ref, const workload_opts *o)
 {
     (void)ref;
+    require_memory("primary", s, o);
     return workload_primary(s, o);
 }
 
@@ -102,6 +118,7 @@ static answers_t *reference_hits(accel *ref, const rayset_t *prim, const workloa
 
 static rayset_t *make_shadow(const scene_t *s, accel *ref, const workload_opts *o)
 {
+    require_memory("shadow", s, o);
     rayset_t *prim = workload_primary(s, o);
     answers_t *a = reference_hits(ref, prim, o);
     rayset_t *rs = rayset_new("shadow", s->name, o->seed, QUERY_ANY);
@@ -129,6 +146,7 @@ static vec3 reflect(vec3 d, vec3 n) { return v3_sub(d, v3_scale(n, 2.0f * v3_dot
 
 static rayset_t *make_reflection(const scene_t *s, accel *ref, const workload_opts *o)
 {
+    require_memory("reflection", s, o);
     rayset_t *gen = workload_primary(s, o);
     rayset_t *rs = rayset_new("reflection", s->name, o->seed, QUERY_CLOSEST);
     rs->width = gen->width, rs->height = gen->height, rs->spp = gen->spp;
@@ -167,6 +185,7 @@ static vec3 cosine_dir(vec3 n, float u1, float u2)
 
 static rayset_t *make_diffuse(const scene_t *s, accel *ref, const workload_opts *o)
 {
+    require_memory("diffuse", s, o);
     rayset_t *prim = workload_primary(s, o);
     answers_t *a = reference_hits(ref, prim, o);
     rayset_t *rs = rayset_new("diffuse", s->name, o->seed, QUERY_CLOSEST);
@@ -230,6 +249,7 @@ rayset_t *workload_random(const scene_t *s, const workload_opts *o, char *err, s
 static rayset_t *make_random(const scene_t *s, accel *ref, const workload_opts *o)
 {
     (void)ref;
+    require_memory("random", s, o);
     char err[512];
     rayset_t *rs = workload_random(s, o, err, sizeof err);
     if (!rs) {

@@ -33,7 +33,9 @@ typedef struct {
     const char *name;
     const char *summary;
     query_kind query;
-    /* ref may be NULL for workloads that need no hits (primary, random). */
+    /* ref may be NULL for workloads that need no hits (primary, random).
+     * Each make() estimates its ray set first and exits 2 with one line
+     * when that is over the memory cap (scenes/memory_cap.h, --memcap). */
     rayset_t *(*make)(const scene_t *s, accel *ref, const workload_opts *o);
 } workload_def;
 

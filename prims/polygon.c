@@ -57,6 +57,7 @@
  * blocks it). The box overlap of a polygon is the overlap of any of its
  * triangles, which is exact because the triangles tile the polygon. */
 #include "prims_internal.h"
+#include "checked_alloc.h"
 #include "shear.h"
 
 #include <float.h>
@@ -304,11 +305,7 @@ uint32_t polygon_triangulate(const vec3 *pts, uint32_t n, vec3 normal, uint32_t 
 
     ring_t r;
     size_t bytes = (size_t)n * (2 * sizeof(double) + 2 * sizeof(uint32_t) + 1);
-    char *mem = malloc(bytes);
-    if (!mem) {
-        fprintf(stderr, "accelbench: out of memory triangulating a %u-vertex polygon\n", n);
-        abort();
-    }
+    char *mem = checked_malloc(bytes, "a polygon's ear-clipping ring");
     r.x = (double *)mem;
     r.y = r.x + n;
     r.prv = (uint32_t *)(r.y + n);

@@ -4,23 +4,37 @@
  * and overlap.c. */
 #include "prims.h"
 #include "prims_internal.h"
+#include "checked_alloc.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static void *grow(void *ptr, uint32_t *cap, uint32_t need, size_t elem)
+/* Room for `need` items of an array: the capacity doubles from 64 (in 64
+ * bits, so the last doubling stops at the 2^32 - 1 ids instead of wrapping
+ * to 0), through the checked allocator. An array whose capacity already
+ * holds need is left alone, so a maker that knows its counts (the SPD
+ * generators) can reserve them exactly. */
+static void *grow(void *ptr, uint32_t *cap, uint32_t need, size_t elem, const char *what)
 {
     if (need <= *cap) return ptr;
-    uint32_t ncap = *cap ? *cap : 64;
+    uint64_t ncap = *cap ? *cap : 64;
     while (ncap < need) ncap *= 2;
-    void *n = realloc(ptr, (size_t)ncap * elem);
-    if (!n) {
-        fprintf(stderr, "accelbench: out of memory growing the primitive store to %u items\n", ncap);
-        abort();
-    }
-    *cap = ncap;
+    if (ncap > UINT32_MAX) ncap = UINT32_MAX;
+    void *n = checked_realloc(ptr, checked_array_bytes((size_t)ncap, elem, what), what);
+    *cap = (uint32_t)ncap;
     return n;
+}
+
+/* A count about to pass the 2^32 - 1 ids: loaders and generators refuse
+ * such scenes first (with the file and line, or the generator's counts), so
+ * reaching this is a maker's bug; it is still an exit 2, never a wrap. */
+static void check_room(uint32_t count, uint32_t more, const char *what)
+{
+    if (more > UINT32_MAX - 1 - count) {
+        fprintf(stderr, "accelbench: the primitive store holds at most 2^32 - 2 %s\n", what);
+        exit(2);
+    }
 }
 
 void prims_init(prims_t *p)
@@ -31,7 +45,8 @@ void prims_init(prims_t *p)
 
 uint32_t prims_add_vertex(prims_t *p, vec3 v)
 {
-    p->verts = grow(p->verts, &p->nverts_cap, p->nverts + 1, sizeof *p->verts);
+    check_room(p->nverts, 1, "vertices");
+    p->verts = grow(p->verts, &p->nverts_cap, p->nverts + 1, sizeof *p->verts, "the primitive store's vertices");
     p->verts[p->nverts] = v;
     return p->nverts++;
 }
@@ -39,9 +54,9 @@ uint32_t prims_add_vertex(prims_t *p, vec3 v)
 static uint32_t add_prim(prims_t *p, prim_kind kind, uint32_t index)
 {
     uint32_t cap = p->count_cap;
-    p->kind = grow(p->kind, &cap, p->count + 1, sizeof *p->kind);
+    p->kind = grow(p->kind, &cap, p->count + 1, sizeof *p->kind, "the primitive store's kinds");
     cap = p->count_cap;
-    p->index = grow(p->index, &cap, p->count + 1, sizeof *p->index);
+    p->index = grow(p->index, &cap, p->count + 1, sizeof *p->index, "the primitive store's indices");
     p->count_cap = cap;
     p->kind[p->count] = (uint8_t)kind;
     p->index[p->count] = index;
@@ -50,7 +65,8 @@ static uint32_t add_prim(prims_t *p, prim_kind kind, uint32_t index)
 
 uint32_t prims_add_triangle(prims_t *p, uint32_t a, uint32_t b, uint32_t c)
 {
-    p->tris = grow(p->tris, &p->ntris_cap, p->ntris + 1, sizeof *p->tris);
+    check_room(p->count, 1, "primitives"); /* the kind's own count is at most this */
+    p->tris = grow(p->tris, &p->ntris_cap, p->ntris + 1, sizeof *p->tris, "the primitive store's triangles");
     tri_t t = {{a, b, c}};
     p->tris[p->ntris] = t;
     return add_prim(p, PRIM_TRIANGLE, p->ntris++);
@@ -58,7 +74,8 @@ uint32_t prims_add_triangle(prims_t *p, uint32_t a, uint32_t b, uint32_t c)
 
 uint32_t prims_add_sphere(prims_t *p, vec3 center, float radius)
 {
-    p->spheres = grow(p->spheres, &p->nspheres_cap, p->nspheres + 1, sizeof *p->spheres);
+    check_room(p->count, 1, "primitives"); /* the kind's own count is at most this */
+    p->spheres = grow(p->spheres, &p->nspheres_cap, p->nspheres + 1, sizeof *p->spheres, "the primitive store's spheres");
     sphere_t s = {center, radius};
     p->spheres[p->nspheres] = s;
     return add_prim(p, PRIM_SPHERE, p->nspheres++);
@@ -66,7 +83,8 @@ uint32_t prims_add_sphere(prims_t *p, vec3 center, float radius)
 
 uint32_t prims_add_cone(prims_t *p, vec3 base, float base_radius, vec3 apex, float apex_radius)
 {
-    p->cones = grow(p->cones, &p->ncones_cap, p->ncones + 1, sizeof *p->cones);
+    check_room(p->count, 1, "primitives"); /* the kind's own count is at most this */
+    p->cones = grow(p->cones, &p->ncones_cap, p->ncones + 1, sizeof *p->cones, "the primitive store's cones");
     cone_t c = {base, base_radius, apex, apex_radius};
     p->cones[p->ncones] = c;
     return add_prim(p, PRIM_CONE, p->ncones++);
@@ -74,13 +92,13 @@ uint32_t prims_add_cone(prims_t *p, vec3 base, float base_radius, vec3 apex, flo
 
 uint32_t prims_add_polygon(prims_t *p, const uint32_t *vertex_indices, uint32_t n)
 {
-    if (n > UINT32_MAX - p->npoly_verts) {
-        fprintf(stderr, "accelbench: too many polygon vertices for the primitive store\n");
-        abort();
-    }
-    p->poly_verts = grow(p->poly_verts, &p->npoly_verts_cap, p->npoly_verts + n, sizeof *p->poly_verts);
+    check_room(p->count, 1, "primitives"); /* the kind's own count is at most this */
+    check_room(p->npoly_verts, n, "polygon vertices");
+    p->poly_verts = grow(p->poly_verts, &p->npoly_verts_cap, p->npoly_verts + n, sizeof *p->poly_verts,
+                         "the primitive store's polygon vertices");
     if (n) memcpy(p->poly_verts + p->npoly_verts, vertex_indices, (size_t)n * sizeof *p->poly_verts);
-    p->polygons = grow(p->polygons, &p->npolygons_cap, p->npolygons + 1, sizeof *p->polygons);
+    p->polygons = grow(p->polygons, &p->npolygons_cap, p->npolygons + 1, sizeof *p->polygons,
+                       "the primitive store's polygons");
     polygon_t g;
     memset(&g, 0, sizeof g);
     g.first = p->npoly_verts;

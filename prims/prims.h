@@ -106,7 +106,8 @@ typedef struct prims {
 /* Building. Append vertices and primitives in scene order, then call
  * prims_finish() once: it computes bounds and the degenerate flags and
  * checks the data. The add functions return the new id (or vertex index);
- * they abort on out-of-memory, which is the only failure they have. */
+ * out of memory, the only failure they have, is one line and exit 2
+ * (checked_alloc.h). */
 void prims_init(prims_t *p);
 uint32_t prims_add_vertex(prims_t *p, vec3 v);
 uint32_t prims_add_triangle(prims_t *p, uint32_t a, uint32_t b, uint32_t c);
@@ -224,6 +225,17 @@ vec3 polygon_normal(const vec3 *pts, uint32_t n);
  * still n - 2 but the triangles may overlap or leave the polygon.
  * O(n^2) typically, O(n^3) worst case. */
 uint32_t polygon_triangulate(const vec3 *pts, uint32_t n, vec3 normal, uint32_t (*tris)[3]);
+
+/* --- clipping (clip.c) --- */
+
+/* The bounds of the part of primitive id inside the closed box, for kd-tree
+ * "perfect splits" (Wald and Havran 2006): triangles and polygons
+ * clipped exactly (Sutherland-Hodgman in double, rounded outward: contains
+ * the exact bounds, about an ulp wider at most), spheres and cones their
+ * bounds within the box. Always inside both the box and prim_bounds();
+ * box_empty() when the primitive does not touch the box (prim_overlaps_box
+ * decides touching). */
+box3 prim_clip_bounds(const prims_t *p, uint32_t id, box3 box);
 
 #ifdef __cplusplus
 }

@@ -225,8 +225,9 @@ static int off_counts_check(const char *data, size_t size, const char *path, cha
     if (end - q > 1 && *q == 'N') q++;
     if (end - q > 1 && *q == '4') q++;
     if (end - q > 1 && *q == 'n') q++, dimension = true;
-    if (end - q > 3 && strncmp(q, "OFF", 3) == 0) p = q + 3;
-    else dimension = false; /* no header: the counts come first */
+    /* Without the OFF keyword the letters before it are still consumed, 'n' still reads a dimension, and
+     * the counts follow them (assimp read "C 4294967295 5" as 2^32 - 1 vertices: a 48 GB allocation). */
+    p = end - q > 3 && strncmp(q, "OFF", 3) == 0 ? q + 3 : q;
     p = off_skip(p, end, &line);
     if (dimension) (void)off_count(&p, end), p = off_skip(p, end, &line);
     uint32_t nv = off_count(&p, end);

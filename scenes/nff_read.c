@@ -17,6 +17,8 @@
  * line too. */
 #include "nff.h"
 #include "compressed.h"
+#include "memory_cap.h"
+#include "../prims/checked_alloc.h"
 
 #include <ctype.h>
 #include <stdarg.h>
@@ -25,8 +27,10 @@
 
 /* A `p`/`pp` with more vertices than this is garbage, not a polygon. */
 #define NFF_MAX_POLY_VERTS 10000000u
-/* Image sizes beyond this are a typo (the SPD uses 512). */
-#define NFF_MAX_RESOLUTION 1000000L
+/* Image sizes beyond the largest any command makes (memory_cap.h; the
+ * SPD uses 512) are refused where they are read, not when an image of
+ * 10^12 pixels is about to be allocated. */
+#define NFF_MAX_RESOLUTION IMAGE_SIDE_MAX
 
 /* ---------------------------------------------------------------- lexer */
 
@@ -417,14 +421,8 @@ static void push_point(nff_parser *ps, vec3 v)
 {
     if (ps->npts == ps->pts_cap) {
         uint32_t cap = ps->pts_cap ? 2 * ps->pts_cap : 64;
-        vec3 *q = realloc(ps->pts, (size_t)cap * sizeof *q);
-        if (q) ps->pts = q;
-        uint32_t *r = q ? realloc(ps->idx, (size_t)cap * sizeof *r) : NULL;
-        if (!r) {
-            fprintf(stderr, "accelbench: out of memory reading %s\n", ps->path);
-            abort();
-        }
-        ps->idx = r;
+        ps->pts = checked_realloc(ps->pts, (size_t)cap * sizeof *ps->pts, "an NFF polygon's vertices");
+        ps->idx = checked_realloc(ps->idx, (size_t)cap * sizeof *ps->idx, "an NFF polygon's vertex indices");
         ps->pts_cap = cap;
     }
     ps->pts[ps->npts++] = v;

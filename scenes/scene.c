@@ -3,6 +3,7 @@
  * validates the primitives and supplies a camera, lights and a material
  * when the source (a bare mesh file) has none. */
 #include "scene.h"
+#include "../prims/checked_alloc.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -14,15 +15,7 @@ typedef struct {
     uint32_t material_upto; /* prims [0, material_upto) have a material */
 } scene_impl;
 
-static void *xrealloc(void *p, size_t n)
-{
-    void *q = realloc(p, n ? n : 1);
-    if (!q) {
-        fprintf(stderr, "accelbench: out of memory (%zu bytes) building a scene\n", n);
-        abort();
-    }
-    return q;
-}
+static void *xrealloc(void *p, size_t n) { return checked_realloc(p, n, "a scene's lights, materials or table of materials"); }
 
 scene_t *scene_new(const char *name)
 {
@@ -48,9 +41,9 @@ void scene_free(scene_t *s)
 
 uint16_t scene_add_material(scene_t *s, material_t m)
 {
-    if (s->nmaterials > UINT16_MAX) {
-        fprintf(stderr, "accelbench: scene %s has more than 65536 materials\n", s->name);
-        abort();
+    if (s->nmaterials > UINT16_MAX) { /* loaders check first where they can name the line */
+        fprintf(stderr, "accelbench: scene %s has more than 65536 materials\n", s->source[0] ? s->source : s->name);
+        exit(2);
     }
     s->materials = xrealloc(s->materials, (s->nmaterials + 1) * sizeof *s->materials);
     s->materials[s->nmaterials] = m;

@@ -206,8 +206,8 @@ int scene_check_view(const camera_t *c, const vec3 *lights, uint32_t nlights, ch
 
 /* Helpers for scene makers (loaders and generators). A scene_t comes only
  * from scene_new() (it carries private bookkeeping behind the public
- * struct) and goes back through scene_free(). Out of memory aborts, as in
- * the primitive store. */
+ * struct) and goes back through scene_free(). Out of memory is one line and
+ * exit 2, as in the primitive store (prims/checked_alloc.h). */
 scene_t *scene_new(const char *name);
 /* Returns the new material's index; at most 65536 materials. */
 uint16_t scene_add_material(scene_t *s, material_t m);

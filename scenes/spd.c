@@ -7,8 +7,15 @@
  * - Cone or cylinder: 4*RES segments around the axis, one band, two
  *   triangles per segment (8*RES), no caps; see emit_cone_tess().
  * - Polygon: polygon_triangulate() (ear clipping), n - 2 triangles over the
- *   polygon's own n vertices. */
+ *   polygon's own n vertices.
+ *
+ * Before generating, scene_spd() sizes the scene from the generator's
+ * census (its parameters alone): ids beyond 2^32 and bytes beyond the
+ * memory cap (memory_cap.h, --memcap) are refused with one line, and the
+ * store is reserved at exactly the estimated sizes (plan_store). */
 #include "spd.h"
+#include "memory_cap.h"
+#include "../prims/checked_alloc.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -49,15 +56,7 @@ double spd_shine(double angle_deg)
 
 static vec3 tof(spd_vec a) { return v3((float)a.x, (float)a.y, (float)a.z); }
 
-static void *xmalloc(size_t n)
-{
-    void *p = malloc(n ? n : 1);
-    if (!p) {
-        fprintf(stderr, "accelbench: out of memory (%zu bytes) generating an SPD scene\n", n);
-        abort();
-    }
-    return p;
-}
+static void *xmalloc(size_t n) { return checked_malloc(n, "an SPD generator's scratch space"); }
 
 /* --- the cube sphere ---
  *
@@ -184,12 +183,7 @@ static void push_run(spd_ctx *c)
     }
     if (c->nruns == c->runs_cap) {
         c->runs_cap = c->runs_cap ? 2 * c->runs_cap : 64;
-        material_run *r = realloc(c->runs, c->runs_cap * sizeof *r);
-        if (!r) {
-            fprintf(stderr, "accelbench: out of memory generating an SPD scene\n");
-            abort();
-        }
-        c->runs = r;
+        c->runs = checked_realloc(c->runs, c->runs_cap * sizeof *c->runs, "an SPD scene's material runs");
     }
     c->runs[c->nruns].end = n;
     c->runs[c->nruns].material = c->material;
@@ -416,6 +410,92 @@ uint64_t spd_prims(const spd_generator *g, int size, int tess_res)
     return spd_census_prims(&n, tess_res && g->forced_res ? g->forced_res : tess_res);
 }
 
+/* --- the store a census needs, before generating ---
+ *
+ * What scene_spd() allocates for a scene, from the census alone, and the
+ * store's arrays reserved at exactly those sizes: no doubling slack (up to
+ * half of a grown array) and no reallocation copies while generating, so
+ * the estimate is what the scene holds. Polygon merging can only make the
+ * scene smaller. True mode does not know which polygons have 3 vertices (a
+ * triangle each) and which more (a polygon primitive each), so it bounds
+ * both: T triangles and P polygon records with T + P = polygons and
+ * sum (n - 2) = polygon_tris >= T + 2P, hence P <= polygon_tris - polygons,
+ * and T >= polygons - P bounds the polygons' own vertices and triangles;
+ * it is exact when every polygon is a triangle, or none is. Not counted:
+ * the generators' own small scratch (the sombrero's height grid, a third of
+ * its vertex bytes, freed before scene_finish). */
+typedef struct {
+    uint64_t prims, verts, tris, spheres, cones, polygons, poly_verts, poly_tris;
+} store_plan;
+
+static store_plan plan_store(const spd_census *n, int tess_res)
+{
+    store_plan p = {0};
+    uint64_t r = (uint64_t)tess_res;
+    if (tess_res) {
+        p.tris = memory_add(memory_add(memory_mul(n->spheres, 12 * r * r), memory_mul(n->cones, 8 * r)), n->polygon_tris);
+        p.verts = memory_add(memory_add(memory_mul(n->spheres, 6 * r * r + 2), memory_mul(n->cones, 8 * r)),
+                             n->polygon_verts);
+        p.prims = p.tris;
+        return p;
+    }
+    p.spheres = n->spheres;
+    p.cones = n->cones;
+    p.tris = n->polygons;
+    p.polygons = n->polygon_tris > n->polygons ? n->polygon_tris - n->polygons : 0;
+    if (p.polygons > n->polygons) p.polygons = n->polygons;
+    uint64_t min_tris = n->polygons - p.polygons; /* the fewest of them that are triangles */
+    p.poly_verts = p.polygons ? n->polygon_verts - 3 * min_tris : 0;
+    p.poly_tris = p.polygons ? n->polygon_tris - min_tris : 0;
+    p.verts = n->polygon_verts;
+    p.prims = memory_add(memory_add(n->spheres, n->cones), n->polygons);
+    return p;
+}
+
+/* Heap bytes of a scene of that plan: the store's arrays (prims/prims.h),
+ * the bounds and flags prims_finish adds, the per-primitive materials, and
+ * in tessellated mode the unit cube sphere and cone angles of the context. */
+static uint64_t plan_bytes(const store_plan *p, int tess_res)
+{
+    const prims_t *z = NULL; /* for the element sizes */
+    uint64_t b = memory_mul(p->prims, sizeof *z->kind + sizeof *z->index + sizeof *z->bounds + sizeof(uint16_t));
+    b = memory_add(b, memory_mul(p->verts, sizeof *z->verts));
+    b = memory_add(b, memory_mul(p->tris, sizeof *z->tris + sizeof *z->tri_degenerate));
+    b = memory_add(b, memory_mul(p->spheres, sizeof *z->spheres));
+    b = memory_add(b, memory_mul(p->cones, sizeof *z->cones));
+    b = memory_add(b, memory_mul(p->polygons, sizeof *z->polygons));
+    b = memory_add(b, memory_mul(p->poly_verts, sizeof *z->poly_verts));
+    b = memory_add(b, memory_mul(p->poly_tris, sizeof *z->poly_tris));
+    if (tess_res) {
+        uint64_t r = (uint64_t)tess_res, n1 = r + 1;
+        b = memory_add(b, n1 * n1 * n1 * sizeof(int32_t) + (6 * r * r + 2) * sizeof(spd_vec) + 12 * r * r * 12 +
+                              8 * r * sizeof(double));
+    }
+    return b;
+}
+
+/* One array of the store at exactly n items (grow() in prims.c leaves an
+ * array alone while its capacity holds what is added). */
+static void *reserve(uint64_t n, size_t elem, uint32_t *cap, const char *what)
+{
+    if (n == 0) return NULL;
+    *cap = (uint32_t)n;
+    return checked_malloc(checked_array_bytes((size_t)n, elem, what), what);
+}
+
+static void reserve_store(prims_t *s, const store_plan *p)
+{
+    uint32_t count_cap = 0;
+    s->kind = reserve(p->prims, sizeof *s->kind, &count_cap, "the primitive store's kinds");
+    s->index = reserve(p->prims, sizeof *s->index, &s->count_cap, "the primitive store's indices");
+    s->verts = reserve(p->verts, sizeof *s->verts, &s->nverts_cap, "the primitive store's vertices");
+    s->tris = reserve(p->tris, sizeof *s->tris, &s->ntris_cap, "the primitive store's triangles");
+    s->spheres = reserve(p->spheres, sizeof *s->spheres, &s->nspheres_cap, "the primitive store's spheres");
+    s->cones = reserve(p->cones, sizeof *s->cones, &s->ncones_cap, "the primitive store's cones");
+    s->polygons = reserve(p->polygons, sizeof *s->polygons, &s->npolygons_cap, "the primitive store's polygons");
+    s->poly_verts = reserve(p->poly_verts, sizeof *s->poly_verts, &s->npoly_verts_cap, "the primitive store's polygon vertices");
+}
+
 scene_t *scene_spd(const char *name, const char *generator, int size, int tess_res, char *err, size_t errlen)
 {
     const spd_generator *g = spd_generator_find(generator);
@@ -448,8 +528,14 @@ scene_t *scene_spd(const char *name, const char *generator, int size, int tess_r
                  (unsigned long long)prims, (unsigned long long)verts);
         return NULL;
     }
+    /* The memory, before a byte of it is allocated (memory_cap.h). */
+    store_plan plan = plan_store(&n, tess_res);
+    if (memory_cap_exceeded(plan_bytes(&plan, tess_res), err, errlen, "%s: %llu primitives%s and %llu vertices", name,
+                            (unsigned long long)prims, tess_res ? " (triangles)" : "", (unsigned long long)verts))
+        return NULL;
 
     scene_t *s = scene_new(name);
+    reserve_store(&s->prims, &plan);
     if (tess_res)
         snprintf(s->source, sizeof s->source, "SPD 3.14 %s -s %d -t %d: %llu triangles%s", g->file, size, asked_res,
                  (unsigned long long)prims, tess_res != asked_res ? " (the generator forces resolution 2)" : "");

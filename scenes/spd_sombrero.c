@@ -11,6 +11,7 @@
  * View: from (0, 5, -8) at 0, up +Z, 40 degrees, hither 0.01; light
  * (10, 10, -10). Material f 1 0.1 0.1 0.8 0 (shiny red). */
 #include "spd.h"
+#include "../prims/checked_alloc.h"
 
 #include <stdlib.h>
 
@@ -30,11 +31,7 @@ void spd_gen_sombrero(spd_ctx *c, int size)
     spd_material(c, 1.0, 0.1, 0.1, 0.8, 0.0, spd_shine(40.0), 0.0, 1.0);
 
     const int w = (int)width(size);
-    spd_vec *g = malloc((size_t)w * w * sizeof *g);
-    if (!g) {
-        fprintf(stderr, "accelbench: out of memory generating the SPD sombrero\n");
-        abort();
-    }
+    spd_vec *g = checked_calloc((size_t)w * w, sizeof *g, "the SPD sombrero's height grid");
     for (int i = 0; i < w; i++)
         for (int j = 0; j < w; j++) {
             double x = -4.0 + j * 8.0 / w, y = -4.0 + i * 8.0 / w, rho = sqrt(x * x + y * y);

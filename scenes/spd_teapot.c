@@ -23,6 +23,7 @@
  * squares f 1 1 1 0.5 0.5 and f 0.5 0.5 0.5 0.5 0.5. Render the teapot
  * double-sided (the lid does not fit tightly); all kinds are two-sided. */
 #include "spd.h"
+#include "../prims/checked_alloc.h"
 
 #include <stdlib.h>
 
@@ -83,12 +84,8 @@ void spd_gen_teapot(spd_ctx *c, int size)
 
     spd_material(c, 1.0, 0.5, 0.1, 0.75, 0.25, spd_shine(37.0), 0.0, 0.0);
     /* Bernstein weights of the n + 1 parameter steps, and one patch's grid. */
-    double (*B)[4] = malloc((size_t)(n + 1) * sizeof *B);
-    spd_vec *P = malloc((size_t)(n + 1) * (n + 1) * sizeof *P);
-    if (!B || !P) {
-        fprintf(stderr, "accelbench: out of memory generating the SPD teapot\n");
-        abort();
-    }
+    double (*B)[4] = checked_calloc((size_t)(n + 1), sizeof *B, "the SPD teapot's Bernstein weights");
+    spd_vec *P = checked_calloc((size_t)(n + 1) * (n + 1), sizeof *P, "the SPD teapot's patch grid");
     for (int i = 0; i <= n; i++) bernstein((double)i / n, B[i]);
     for (int p = 0; p < spd_teapot_npatches; p++) {
         const unsigned short *g = spd_teapot_patches[p];

@@ -13,8 +13,12 @@ Once per file:
 Bars are labelled "accel", or "accel[params]" when an accel has several
 params strings in the file (keys shared by all of them dropped), plus
 "@<n>t" when it ran with several thread counts. Rows with fewer fields than
-the header (interrupted run) are skipped with a warning. Exit status 2 for
-a missing file or a CSV without the required columns.
+the header (interrupted run) are skipped with a warning. A cell measured
+more than once (rows of one cell_key; in files without that column, of one
+scene, accel, params, workload, threads and rayset_hash) is plotted from its
+LAST row, the newest measurement, with a warning saying how many were
+dropped. Exit status 2 for a missing file or a CSV without the required
+columns.
 """
 import argparse
 import csv
@@ -76,6 +80,29 @@ def load_rows(path, required=REQUIRED):
                 continue
             rows.append(dict(zip(header, rec)))
     return rows
+
+
+# What identifies a cell in a CSV written before rows had a cell_key.
+LEGACY_CELL = ("scene", "accel", "params", "workload", "threads", "rayset_hash")
+
+
+def cell_of(row):
+    """The cell a row measures: its cell_key, else the legacy identity columns."""
+    key = row.get("cell_key")
+    return ("key", key) if key else ("legacy",) + tuple(row.get(c, "") for c in LEGACY_CELL)
+
+
+def dedup_rows(rows, path):
+    """One row per cell, the last of each (a re-measured cell's newest row),
+    in the order of those last rows."""
+    last = {}
+    for i, r in enumerate(rows):
+        last[cell_of(r)] = i
+    kept = sorted(last.values())
+    if len(kept) < len(rows):
+        print(f"{PROG}: warning: {path}: {len(rows) - len(kept)} rows measure a cell a later row measures "
+              "again; the later rows are plotted", file=sys.stderr)
+    return [rows[i] for i in kept]
 
 
 def split_params(params):
@@ -354,6 +381,7 @@ def main(argv=None):
     rows, out = rows_and_folder(args)
     if not rows:
         return 0
+    rows = dedup_rows(rows, args.csv)
     labels = config_labels(rows)
     workloads = ordered((r["workload"] for r in rows), WORKLOAD_ORDER)
     scenes = ordered(r["scene"] for r in rows)

@@ -1,8 +1,10 @@
 #!/bin/bash
 # test.sh: install, build and run the whole test suite (meson test), then
-# the conformance suite over the registry (tests/test_accels.c) again in a
-# second build with AddressSanitizer and UndefinedBehaviorSanitizer
-# (build-asan/), so that a memory or UB error in any accelerator fails CI.
+# the whole suite again in a second build with AddressSanitizer,
+# UndefinedBehaviorSanitizer and LeakSanitizer (build-asan/), so that a
+# memory error, undefined behaviour or a leak anywhere fails CI, and last a
+# short fuzz run of every libFuzzer harness (scripts/fuzz.sh, 12 s each).
+# TEST_NO_FUZZ=1 leaves the fuzz run out (a developer's quick loop).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -13,9 +15,12 @@ if [ -f build-asan/build.ninja ]; then
 else
     meson setup build-asan --buildtype=debugoptimized -Db_sanitize=address,undefined -Db_lundef=false > /dev/null
 fi
-ninja -C build-asan tests/test_accels > /dev/null
+ninja -C build-asan > /dev/null
 # halt_on_error: a sanitizer report fails the run; LSan's leak check is on,
 # with the suppressions of tests/lsan.supp (leaks inside Embree/TBB only).
+# The sanitizers slow tests 2-5x: meson's timeouts are doubled.
 ASAN_OPTIONS=halt_on_error=1:detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp \
-    meson test -C build-asan --no-rebuild --print-errorlogs accels
+    meson test -C build-asan --no-rebuild --print-errorlogs --num-processes 2 --timeout-multiplier 2 "$@"
+
+[ "${TEST_NO_FUZZ:-0}" = 1 ] || scripts/fuzz.sh 12

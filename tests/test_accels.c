@@ -309,7 +309,7 @@ static void check_set(const scene_t *s, const subject *sub, accel *ref, const ra
     accel *a = sub->a;
     if ((a->ops->flags & ACCEL_SHADOW_ONLY) && rs->query != QUERY_ANY) return;
     const char *what = rs->workload;
-    int threads = (a->ops->flags & ACCEL_MUTATES) ? 1 : 2;
+    int threads = accel_serial(a) ? 1 : 2;
     size_t mem0 = a->ops->memory(a);
     accel_reset(a);
     answers_t *want = test_trace(ref, rs, 1), *one = test_trace(a, rs, 1);
@@ -329,7 +329,7 @@ static void check_set(const scene_t *s, const subject *sub, accel *ref, const ra
     }
     CHECK_MSG(vr.mismatches[MM_UNJUDGED] == 0, "%s on %s %s: %llu unjudged", sub->label, s->name, what,
               (unsigned long long)vr.mismatches[MM_UNJUDGED]);
-    if (!(a->ops->flags & ACCEL_MUTATES)) {
+    if (!accel_serial(a)) {
         answers_t *two = test_trace(a, rs, threads);
         CHECK_MSG(same_answers(one, two) && same_counters(&one->total, &two->total),
                   "%s on %s %s: 1 and 2 threads differ", sub->label, s->name, what);

@@ -46,9 +46,48 @@ static void check_bad_kernel(void)
     scene_free(s);
 }
 
+/* A shadow segment shorter than double precision resolves (a direction of
+ * 1e-30 from z = 1: org + tfar dir == org) is one point, which CGAL's
+ * segment predicates refuse with a precondition failure that ended the
+ * program (the ray-file fuzzer found it). It must answer as exhaustive does:
+ * clear for the short one, occluded for the same direction reaching the
+ * ground plane 1e30 further on. */
+static void check_point_segment(void)
+{
+    scene_t *s = test_scene("spd:balls:1");
+    vec3 c = box_center(s->bounds), org = v3(c.x, c.y, s->bounds.hi.z + 1.0f);
+    rayset_t *rs = rayset_new("point-segment", s->name, 1, QUERY_ANY);
+    const ray_t rays[2] = {{org, 0.0f, v3(0, 0, -1e-30f), 1.0f, RAY_NO_LIGHT, 0},
+                           {org, 0.0f, v3(0, 0, -1e-30f), INFINITY, RAY_NO_LIGHT, 0}};
+    for (int i = 0; i < 2; i++) rayset_push(rs, &rays[i], 0);
+    rayset_seal(rs);
+    accel *ex = test_build("exhaustive", s, 1);
+    answers_t *want = test_trace(ex, rs, 1);
+    CHECK_MSG(!want->occluded[0] && want->occluded[1], "exhaustive: short segment %d, long %d (want clear, occluded)",
+              want->occluded[0], want->occluded[1]);
+    static const char *const kernels[] = {"simple", "epick"};
+    for (int k = 0; k < 2; k++) {
+        char err[512];
+        accel *a = build_kernel(s, kernels[k], err, sizeof err);
+        CHECK_MSG(a != NULL, "kernel=%s: build failed: %s", kernels[k], err);
+        if (!a) continue;
+        answers_t *got = test_trace(a, rs, 1);
+        for (int i = 0; i < 2; i++)
+            CHECK_MSG(got->occluded[i] == want->occluded[i], "kernel=%s: segment %d: occluded %d, exhaustive %d",
+                      kernels[k], i, got->occluded[i], want->occluded[i]);
+        answers_free(got);
+        a->ops->destroy(a);
+    }
+    answers_free(want);
+    ex->ops->destroy(ex);
+    rayset_free(rs);
+    scene_free(s);
+}
+
 int main(void)
 {
     check_bad_kernel();
+    check_point_segment();
     check_scene("bunny", 48);
     static const char *const spd[] = {"spd:balls:2", "spd:balls:2:t", "spd:gears:2", "spd:tree:4", "spd:shells:2"};
     for (size_t i = 0; i < sizeof spd / sizeof spd[0]; i++) check_scene(spd[i], 32);

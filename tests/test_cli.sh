@@ -67,7 +67,7 @@ expect 2 "not an accelbench ray file" -- "$AB" verify --scenes spd:balls:1 --ray
 rc=$?
 [ $rc = 0 ] && ok || { bad "run exit $rc"; tail "$T/run.log" >&2; }
 csv="$T/run/matrix.csv"
-header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,ratio_min,ratio_max,embree_ms,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,mismatch_origin,mismatch_unjudged,illposed_rays,judge_ms,serial,res,spp,repeat,passes,timed_path,stat_nodes,stat_leaves,stat_empty_leaves,stat_max_depth,stat_avg_leaf_prims,stat_refs_per_prim,stat_res_x,stat_res_y,stat_res_z,stat_lazy_build_ms,git_rev,machine,cpu,date"
+header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,ratio_min,ratio_max,embree_ms,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,mismatch_origin,mismatch_unjudged,illposed_rays,judge_ms,serial,res,spp,repeat,passes,timed_path,stat_nodes,stat_leaves,stat_empty_leaves,stat_max_depth,stat_avg_leaf_prims,stat_refs_per_prim,stat_res_x,stat_res_y,stat_res_z,stat_lazy_build_ms,stat_hash_load,stat_hash_probes_avg,stat_hash_probes_max,stat_hash_probes_miss_avg,run_id,cell_key,git_rev,machine,cpu,date"
 [ "$(head -1 "$csv")" = "$header" ] && ok || bad "CSV header: $(head -1 "$csv")"
 rows=$(($(wc -l < "$csv") - 1))
 [ "$rows" = 20 ] && ok || bad "CSV has $rows rows, want 2 scenes x 2 accels x 5 workloads = 20"
@@ -242,6 +242,36 @@ printf 'ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\nprop
 expect 2 "$T/count.ply: line 3: declares 2000000000 elements, which need at least" -- "$AB" scene info "$T/count.ply"
 printf 'COFF\n2000000000 2000000000 0\n0 0 0 255 0 0 255\n' > "$T/count.off"
 expect 2 "$T/count.off: ends after 1 of 2000000000 vertices" -- "$AB" scene info "$T/count.off"
+# without the OFF keyword assimp still consumes the letters before it and reads the counts after them
+# (the fuzzer's "C 4294967295 5" was a 48 GB allocation)
+printf 'C 4294967295 5 1\n0 0 0\n' > "$T/prefix.off"
+expect 2 "$T/prefix.off: line 1: declares 4294967295 vertices and 5 faces, but 1 lines follow" -- "$AB" scene info "$T/prefix.off"
+
+# --- issue 9, part 4: everything the command line names is checked before the first cell
+# --seed -1 was taken as 2^64 - 1
+expect 2 "--seed -1: expected an unsigned integer" -- "$AB" verify --scenes spd:balls:1 --seed -1
+# a missing ray file: refused before verify prints its table or loads a scene
+out=$("$AB" verify --scenes spd:balls:1 --rays "$T/none.rays" --accels exhaustive 2>&1); rc=$?
+[ "$rc" = 2 ] && ! grep -q "^scene \|primitives" <<<"$out" && grep -q "$T/none.rays: cannot open ray file" <<<"$out" && ok ||
+    bad "verify --rays missing: exit $rc, output: $out"
+# --ray past the file's rays: said before any scene is traced
+expect 2 "--ray 99: $T/p.rays has 16 rays" -- "$AB" verify --scenes spd:balls:1 --rays "$T/p.rays" --accels exhaustive --ray 99
+# a shadow ray set replayed on a scene with fewer lights: its light index was never checked; now refused
+"$AB" verify --scenes spd:balls:1 --workloads shadow --res 8x8 --accels exhaustive --save-rays "$T/shadow.rays" > /dev/null 2>&1
+printf 's 0 0 0 1\nl 0 5 5\nv\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0.01\nresolution 8 8\n' > "$T/one_light.nff"
+expect 2 "$T/shadow.rays: ray [0-9]+ goes to light 1, but scene '$T/one_light.nff' has 1 light\$" -- "$AB" verify --scenes "$T/one_light.nff" --rays "$T/shadow.rays" --accels exhaustive
+# grid.rayid=twopass (and grid's mtf) keep per-thread history: on 2 threads the counters varied from run
+# to run; such a grid is now traced on one thread (serial=1) and two runs give the same counters
+for i in 1 2; do
+    "$AB" run --scenes spd:balls:2 --accels grid --param grid.rayid=twopass --param grid.mtf=almost \
+        --workloads primary,reflection --res 48x48 --repeat 1 --threads 2 --no-plots -q --out "$T/twopass$i" > /dev/null 2>&1
+done
+/usr/bin/python3 - "$T/twopass1/matrix.csv" "$T/twopass2/matrix.csv" <<'PY' && ok || bad "grid rayid=twopass: counters differ between runs or not serial"
+import csv, sys
+cols = ('workload', 'threads', 'serial', 'tests_per_ray', 'steps_per_ray', 'mailbox_hits_per_ray')
+a, b = ([tuple(r[c] for c in cols) for r in csv.DictReader(open(p))] for p in sys.argv[1:])
+sys.exit(0 if a == b and len(a) == 2 and all(r[1] == '1' and r[2] == '1' for r in a) else 1)
+PY
 
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

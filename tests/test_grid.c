@@ -64,7 +64,7 @@ static const config_t configs[] = {
 };
 #define NCONFIGS (sizeof configs / sizeof configs[0])
 
-static int threads_for(const accel *a) { return (a->ops->flags & ACCEL_MUTATES) ? 1 : 2; }
+static int threads_for(const accel *a) { return accel_serial(a) ? 1 : 2; }
 
 /* Check one accelerator's answers on one ray set. */
 static void check_answers_min(const char *what, const scene_t *s, const rayset_t *rs, const answers_t *got,
