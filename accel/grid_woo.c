@@ -273,8 +273,10 @@ static void cell_span(const grid_t *g, int a, float lo, float hi, int *i0, int *
     int n = g->n[a];
     float inv = (float)n / (pl[n] - pl[0]);
     float f0 = floorf((lo - pl[0]) * inv), f1 = floorf((hi - pl[0]) * inv);
-    int a0 = f0 < 0 ? 0 : f0 > (float)(n - 1) ? n - 1 : (int)f0;
-    int a1 = f1 < 0 ? 0 : f1 > (float)(n - 1) ? n - 1 : (int)f1;
+    /* !(f >= 0): a NaN guess too (a denormal extent makes inv infinite and 0 * inf NaN; the fuzzer's binary
+     * STL): it starts from cell 0 and the walks below find the cell exactly */
+    int a0 = !(f0 >= 0) ? 0 : f0 > (float)(n - 1) ? n - 1 : (int)f0;
+    int a1 = !(f1 >= 0) ? 0 : f1 > (float)(n - 1) ? n - 1 : (int)f1;
     while (a0 > 0 && pl[a0] + g->pad >= lo) a0--;
     while (a0 < n - 1 && pl[a0 + 1] + g->pad < lo) a0++;
     while (a1 < n - 1 && pl[a1 + 1] - g->pad <= hi) a1++;
@@ -617,7 +619,7 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
         int n = g->n[a];
         float o = r.sr.org[a], pa = r.d[a] == 0.0f ? o : o + r.d[a] * t0;
         float f = floorf((pa - pl[0]) * ((float)n / (pl[n] - pl[0])));
-        int i = f < 0 ? 0 : f > (float)(n - 1) ? n - 1 : (int)f;
+        int i = !(f >= 0) ? 0 : f > (float)(n - 1) ? n - 1 : (int)f; /* NaN: 0, as in cell_span */
         while (i > 0 && pa < pl[i]) i--;
         while (i < n - 1 && pa >= pl[i + 1]) i++;
         idx[a] = i;
