@@ -31,9 +31,11 @@
  * The two ops tables come from one macro (GRID_OPS, at the end).
  *
  * Parameters (grid default / grid-raybox default):
- *   res=auto|NxMxK   auto / auto: Woo s8.2, m = n^(1/3) * density,
+ *   res=auto|cubic:D|NxMxK auto / auto: Woo s8.2, m = n^(1/3) * density,
  *                    X = s_x / maxS * m (Y, Z alike), rounded, each >= 1,
  *                    at most GRID_AUTO_MAX (grid_auto_resolution()).
+ *                    cubic:D: cubic voxels, about D x n of them (Havran and
+ *                    Sixta, RTN 12(1) 1999; grid_cubic_resolution()).
  *   density=1.0      multiplies m (auto only).
  *   insert=exact|bbox    exact / exact: a primitive goes in every voxel its
  *                    surface touches (prim_overlaps_box) or every voxel its
@@ -184,7 +186,7 @@ enum { MTF_OFF = 0, MTF_HIT = 1, MTF_ALMOST = 2 };
 
 #define GRID_PARAM_TABLE(RAYBOX, MTF, DYN, VOX, BETA, TCLIP, WOO90)                                                  \
     {                                                                                                                \
-        {"res", "auto", "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis) | NxMxK"},    \
+        {"res", "auto", "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis) | cubic:D (cubic voxels, about D x N: Havran-Sixta RTN 12(1)) | NxMxK"}, \
         {"density", "1.0", "multiplies m in res=auto: > 0"},                                                         \
         {"insert", "exact", "voxel insertion: exact (prim_overlaps_box) | bbox (bounds overlap)"},                   \
         {"mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive: on|off"},                      \
@@ -259,6 +261,24 @@ void grid_auto_resolution(box3 box, uint64_t n, double density, int res[3])
     double m = cbrt((double)n) * density;
     for (int a = 0; a < 3; a++) {
         double r = maxs > 0 ? s[a] / maxs * m : 1.0;
+        long v = isfinite(r) ? lround(fmin(r, (double)GRID_AUTO_MAX)) : 1;
+        res[a] = v < 1 ? 1 : v > GRID_AUTO_MAX ? GRID_AUTO_MAX : (int)v;
+    }
+}
+
+void grid_cubic_resolution(box3 box, uint64_t n, double d, int res[3])
+{
+    double s[3] = {0, 0, 0}, volume = 1;
+    int k = 0;
+    if (!box_is_empty(box)) {
+        vec3 e = box_extent(box);
+        s[0] = e.x, s[1] = e.y, s[2] = e.z;
+    }
+    for (int a = 0; a < 3; a++)
+        if (s[a] > 0) volume *= s[a], k++;
+    double cells = fmax((double)n * d, 1.0), h = k ? pow(volume / cells, 1.0 / k) : 0;
+    for (int a = 0; a < 3; a++) {
+        double r = s[a] > 0 && h > 0 ? s[a] / h : 1.0;
         long v = isfinite(r) ? lround(fmin(r, (double)GRID_AUTO_MAX)) : 1;
         res[a] = v < 1 ? 1 : v > GRID_AUTO_MAX ? GRID_AUTO_MAX : (int)v;
     }
@@ -354,13 +374,21 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     const prims_t *p = &scene->prims;
     int res[3];
     const char *rs = params_get(params, "res");
+    double cubic_d;
+    char tail;
     if (strcmp(rs, "auto") == 0) {
         grid_auto_resolution(p->count ? p->box : box_empty(), p->count, density, res);
+    } else if (strncmp(rs, "cubic:", 6) == 0) {
+        if (sscanf(rs + 6, "%lf%c", &cubic_d, &tail) != 1 || !(cubic_d > 0 && cubic_d <= 1e4)) {
+            snprintf(err, errlen, "res=%s: cubic:D needs D, the cells per primitive, in (0, 10000]", rs);
+            return NULL;
+        }
+        grid_cubic_resolution(p->count ? p->box : box_empty(), p->count, cubic_d, res);
     } else {
         char extra;
         if (sscanf(rs, "%dx%dx%d%c", &res[0], &res[1], &res[2], &extra) != 3 || res[0] < 1 || res[1] < 1 ||
             res[2] < 1 || res[0] > RES_MAX || res[1] > RES_MAX || res[2] > RES_MAX) {
-            snprintf(err, errlen, "res=%s: must be auto or NxMxK with each in 1..%d", rs, RES_MAX);
+            snprintf(err, errlen, "res=%s: must be auto, cubic:D or NxMxK with each in 1..%d", rs, RES_MAX);
             return NULL;
         }
     }
@@ -845,7 +873,7 @@ static bool grid_order_dependent(const accel *a)
  * also mtf and rayid, which make it order-dependent (traced on one thread,
  * like grid-raybox). */
 static const char *const grid_variants[] = {"mailbox=off", "insert=bbox", "voxbox=on,woo90=on,tclip=on", "res=4x4x4",
-                                            "mtf=almost,rayid=twopass", NULL};
+                                            "mtf=almost,rayid=twopass", "res=cubic:20", NULL};
 static const char *const grid_raybox_variants[] = {"mtf=off", "raybox=off", "res=4x4x4",
                                                    "eyeorigin=on,rayid=twopass", NULL};
 

@@ -16,6 +16,14 @@
  * zero-extent axis gets 1 cell. */
 void grid_auto_resolution(box3 box, uint64_t n, double density, int res[3]);
 
+/* res=cubic:D (Havran and Sixta, Ray Tracing News 12(1), 1999): cubic
+ * voxels, about D x n of them. The side is h = (prod s_a / (D n))^(1/k)
+ * over the k axes of nonzero extent; each such axis gets round(s_a / h)
+ * cells, clamped to [1, GRID_AUTO_MAX]; a zero-extent axis 1. D = 1 is the
+ * "one voxel per object" n^(1/3) rule, D = 20 what Havran and Sixta found
+ * always beats it. An empty box gives 1x1x1. */
+void grid_cubic_resolution(box3 box, uint64_t n, double d, int res[3]);
+
 /* Test accessors (never used while tracing). The resolution of a built grid. */
 void grid_debug_dims(const accel *a, int res[3]);
 /* The candidate list of cell (i, j, k) in its current (shared) order. */

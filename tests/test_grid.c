@@ -291,6 +291,34 @@ static void test_auto_resolution(void)
     grid_auto_resolution(thin, 1000, 1.0, r); /* 10, 0.1 -> 1 */
     CHECK(r[0] == 10 && r[1] == 1 && r[2] == 1);
 
+    /* res=cubic:D: cubic voxels, about D n of them (Havran and Sixta). Box 10x5x2, n = 1000: D = 1 gives
+     * h = (100/1000)^(1/3) = 0.464, 21.5 x 10.8 x 4.3 -> 22 x 11 x 4; D = 20 h = 0.171 -> 58 x 29 x 12. */
+    grid_cubic_resolution(b, 1000, 1.0, r);
+    CHECK_MSG(r[0] == 22 && r[1] == 11 && r[2] == 4, "cubic:1 %d %d %d", r[0], r[1], r[2]);
+    grid_cubic_resolution(b, 1000, 20.0, r);
+    CHECK_MSG(r[0] == 58 && r[1] == 29 && r[2] == 12, "cubic:20 %d %d %d", r[0], r[1], r[2]);
+    for (int k = 0; k < 3; k++) { /* the voxels are cubes up to the rounding of each axis' count */
+        double side = (k == 0 ? 10.0 : k == 1 ? 5.0 : 2.0) / r[k];
+        CHECK_MSG(fabs(side / 0.171 - 1) < 0.05, "cubic:20 axis %d side %g", k, side);
+    }
+    grid_cubic_resolution(flat, 100, 1.0, r); /* a flat box: square cells on its two axes, 10 x 10 x 1 */
+    CHECK_MSG(r[0] == 10 && r[1] == 10 && r[2] == 1, "cubic flat %d %d %d", r[0], r[1], r[2]);
+    grid_cubic_resolution(box_empty(), 0, 20.0, r);
+    CHECK(r[0] == 1 && r[1] == 1 && r[2] == 1);
+    /* spd:balls:3's flat 16x16x1 (Woo's rule on its flat box, issue 10) becomes cubic voxels */
+    scene_t *balls = test_scene("spd:balls:3");
+    accel *g20 = must_build("grid", balls, "res=cubic:20");
+    int got_dims[3];
+    grid_debug_dims(g20, got_dims);
+    double cells = (double)got_dims[0] * got_dims[1] * got_dims[2];
+    CHECK_MSG(cells > 10 * balls->prims.count && cells < 40 * balls->prims.count, "cubic:20 on %u prims: %d x %d x %d",
+              balls->prims.count, got_dims[0], got_dims[1], got_dims[2]);
+    g20->ops->destroy(g20);
+    char why[256];
+    CHECK(test_build_with(accel_find("grid"), balls, "res=cubic:0", 1, why, sizeof why) == NULL &&
+          strstr(why, "res=cubic:0"));
+    scene_free(balls);
+
     /* A built grid uses it. */
     scene_t *s = test_scene("bunny");
     accel *a = must_build("grid", s, "");
