@@ -7,20 +7,7 @@ set -u
 AB=${ACCELBENCH:?set ACCELBENCH to the accelbench binary}
 T=$(mktemp -d /tmp/accelbench-cli.XXXXXX)
 trap 'rm -rf "$T"' EXIT
-pass=0 fail=0
-
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
-
-# expect STATUS PATTERN -- command...: exit status and a stdout+stderr pattern
-expect() {
-    local want=$1 pat=$2; shift 3
-    local out rc
-    out=$("$@" 2>&1); rc=$?
-    if [ "$rc" != "$want" ]; then bad "exit $rc (want $want): $*"; echo "$out" | tail -5 >&2; return; fi
-    if [ -n "$pat" ] && ! grep -qE -- "$pat" <<<"$out"; then bad "no /$pat/ in output of: $*"; echo "$out" | tail -5 >&2; return; fi
-    ok
-}
+. "$(dirname "$0")/cli_lib.sh"
 
 # --- help and lists
 expect 2 "usage" -- "$AB"

@@ -11,33 +11,9 @@ set -u
 AB=${ACCELBENCH:?set ACCELBENCH to the accelbench binary}
 T=$(mktemp -d /tmp/accelbench-cli-resources.XXXXXX)
 trap 'rm -rf "$T"' EXIT
-pass=0 fail=0
 GiB=$((1 << 30)) MiB=$((1 << 20))
-expect() { expect_run "$@"; }
-refused() { refused_run "$@"; }
 
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
-
-# expect STATUS PATTERN -- command...: exit status and a stdout+stderr pattern
-expect_run() {
-    local want=$1 pat=$2; shift 3
-    local out rc
-    out=$("$@" 2>&1); rc=$?
-    if [ "$rc" != "$want" ]; then bad "exit $rc (want $want): $*"; echo "$out" | tail -5 >&2; return; fi
-    if [ -n "$pat" ] && ! grep -qE -- "$pat" <<<"$out"; then bad "no /$pat/ in output of: $*"; echo "$out" | tail -5 >&2; return; fi
-    ok
-}
-# refused PATTERN -- command...: exit 2 and exactly one line of output, matching PATTERN
-refused_run() {
-    local pat=$1; shift 2
-    local out rc
-    out=$("$@" 2>&1); rc=$?
-    if [ "$rc" != 2 ]; then bad "exit $rc (want 2): $*"; echo "$out" | tail -5 >&2; return; fi
-    if [ "$(wc -l <<<"$out")" != 1 ]; then bad "$(wc -l <<<"$out") lines (want 1) from: $*"; echo "$out" | head -5 >&2; return; fi
-    if ! grep -qE -- "$pat" <<<"$out"; then bad "no /$pat/ in: $out (from: $*)"; return; fi
-    ok
-}
+. "$(dirname "$0")/cli_lib.sh"
 # limited BYTES command...: the command under an address-space limit (RLIMIT_AS)
 # Under AddressSanitizer (scripts/test.sh's second run) no such case can run: its shadow memory alone
 # reserves terabytes of address space, so any limit that means something here kills it at start (exit

@@ -19,9 +19,7 @@ AB=${ACCELBENCH:?set ACCELBENCH to the accelbench binary}
 SRCDIR=${SRCDIR:?set SRCDIR to the source folder}
 T=$(mktemp -d /tmp/accelbench-resume.XXXXXX)
 trap 'rm -rf "$T"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+. "$(dirname "$0")/cli_lib.sh"
 
 # 1 scene x 2 accelerators x 3 workloads = 6 cells of about 0.3 s each.
 RUN=(run --scenes spd:balls:1 --accels exhaustive,embree --workloads primary,shadow,random --res 16x16 --repeat 3
