@@ -1,9 +1,14 @@
 /* reproduce.h: `accelbench reproduce EXPERIMENT`: a paper's experiments
  * re-run on our scenes, printed in the paper's table shapes with our
- * numbers (reproduce_woo92.c: Woo, Graphics Interface 1992, Tables 1-4
- * plus a one-switch-at-a-time ablation).
+ * numbers, the paper's figures beside them and a "finding:" line wherever
+ * the two disagree. One file per experiment, on the shared machinery of
+ * reproduce_kit.h:
+ *   woo92   reproduce_woo92.c: Woo, Graphics Interface 1992, Tables 1-4
+ *           plus a one-switch-at-a-time ablation
+ *   havran  reproduce_havran.c: Havran and Sixta's grids (RTN 12(1)) and
+ *           Havran's octrees (RTN 12(2)) on the SPD databases, plus BSPs
  *
- *   accelbench reproduce woo92 [--out DIR] [--threads N] [--repeat N] [--quick]
+ *   accelbench reproduce EXPERIMENT [--out DIR] [--threads N] [--repeat N] [--quick] ...
  *
  * Exit status: 0 done, 1 a real mismatch against Embree, 2 bad input. */
 #ifndef ACCELBENCH_REPRODUCE_H
@@ -14,5 +19,12 @@
 /* argv[0] is "reproduce". */
 int reproduce_main(int argc, char **argv);
 void reproduce_usage(FILE *out);
+
+/* The experiments: argv[0] is the experiment's name; each prints its own
+ * lines of the usage. */
+int reproduce_woo92(int argc, char **argv);
+void woo92_usage(FILE *out);
+int reproduce_havran(int argc, char **argv);
+void havran_usage(FILE *out);
 
 #endif

@@ -11,15 +11,11 @@
 
 /* ------------------------------------------------------------ numbers */
 
-static double per_ray(const meas *m, uint64_t v) { return m->rays ? (double)v / (double)m->rays : 0.0; }
-static double tests(const meas *m) { return per_ray(m, m->c.prim_tests); }
-static double boxes(const meas *m) { return per_ray(m, m->c.box_tests); }
+static double tests(const meas *m) { return rp_tests(m); }
+static double boxes(const meas *m) { return rp_boxes(m); }
 /* Percent of a saved by b (positive: b is faster / smaller). */
 static double saved(double a, double b) { return a > 0 ? 100.0 * (a - b) / a : 0.0; }
-/* The min-max spread of a measurement's repeats, % of its median. */
-static double spread(const meas *m) { return m->ms > 0 ? 100.0 * (m->ms_max - m->ms_min) / m->ms : 0.0; }
-/* The noise band of a comparison: the larger spread, at least 1%. */
-static double noise2(const meas *a, const meas *b) { return fmax(1.0, fmax(spread(a), spread(b))); }
+static double noise2(const meas *a, const meas *b) { return rp_noise2(a, b); }
 
 static double spread_of(const double *v, int n)
 {
@@ -96,49 +92,39 @@ static long cells_of(const char *res)
 
 /* What Tables 2-4 and the ablation trace: "640x480 primary + mirror
  * reflection to depth 3". */
-static const char *image_rays(const rp_run *r, char *buf, size_t len)
+static const char *image_rays(const woo_run *r, char *buf, size_t len)
 {
     snprintf(buf, len, "%dx%d primary + mirror reflection to depth %d", r->cf.img_w, r->cf.img_h, r->woo.depth);
     return buf;
 }
 
-/* The distinct timed_path values of the measurements, ", "-joined. */
-static void timed_paths(const rp_run *r, char *buf, size_t len)
-{
-    buf[0] = 0;
-    for (int i = 0; i < r->nmeas; i++) {
-        const char *p = r->store[i].rows[0].timed_path;
-        if (p && !strstr(buf, p)) snprintf(buf + strlen(buf), len - strlen(buf), "%s%s", buf[0] ? ", " : "", p);
-    }
-}
-
-static void print_header(rp_run *r, FILE *f)
+static void print_header(woo_run *r, FILE *f)
 {
     const rp_config *c = &r->cf;
     const woo_figures *w = &r->woo;
     char paths[64];
-    timed_paths(r, paths, sizeof paths);
+    rp_timed_paths(&r->k, paths, sizeof paths);
     report_heading(f, 1, "Woo 1992 reproduced: accelbench reproduce woo92");
     report_para(f, "A. Woo, \"Ray Tracing Polygons using Spatial Subdivision\", Graphics Interface 1992: Tables 1-4 "
                    "(sections 8-9) and an ablation of sections 4-7, re-run on our scenes. Every number is OURS; Woo's are "
                    "quoted from data/woo92_figures.csv beside each table and in the finding lines.");
-    report_bullet(f, 0, "machine: %s, %s; accelbench %s; %s", r->mi.host, r->mi.cpu, r->mi.git_rev, r->mi.date);
+    report_bullet(f, 0, "machine: %s, %s; accelbench %s; %s", r->k.mi.host, r->k.mi.cpu, r->k.mi.git_rev, r->k.mi.date);
     report_bullet(f, 0, "threads: every timed trace runs on **1 thread** (grid-raybox reorders its shared candidate lists, "
                         "ACCEL_MUTATES, so it must; every other variant and Embree run on 1 thread too, for fairness). "
                         "Untimed work (ray sets, Embree's reference answers): %d thread%s.",
-                  r->o.threads, r->o.threads == 1 ? "" : "s");
+                  r->k.o.threads, r->k.o.threads == 1 ? "" : "s");
     report_bullet(f, 0, "repeats: %d timed sample%s after 1 warm-up trace, median reported%s; each sample is paired with "
                         "one of Embree's on the same rays, in alternating order (the CSV's ratio_vs_embree and its "
                         "spread). The warm-up's answers are verified against Embree and give the counters (tests/ray = "
                         "primitive tests per ray, box tests/ray = grid clip + voxel-box + ray-box crossing + bounds tests "
                         "per ray). Timed path: %s.",
-                  r->o.repeat, r->o.repeat == 1 ? "" : "s", r->o.repeat == 1 ? " (1 repeat: no noise estimate)" : "",
+                  r->k.o.repeat, r->k.o.repeat == 1 ? "" : "s", r->k.o.repeat == 1 ? " (1 repeat: no noise estimate)" : "",
                   paths[0] ? paths : "none");
     report_bullet(f, 0, "noise: \"within noise\" in the findings means within the larger min-max spread of the two "
                         "measurements' repeats, and at least 1%%. Run-to-run variation (another process, a shared VM) can "
                         "be larger: read differences of a few percent as ties.");
     report_bullet(f, 0, "mode: %s",
-                  r->o.quick ? "**--quick**: small images and 1 repeat; for testing the command, not for reading" : "default");
+                  r->k.o.quick ? "**--quick**: small images and 1 repeat; for testing the command, not for reading" : "default");
     report_bullet(f, 0, "time: ms of wall clock to trace the image's ray sets, no shading (Woo: CPU minutes of a whole "
                         "render on a %s). Tables 2-4 and the ablation trace the %dx%d primary rays plus the `reflection` "
                         "workload (mirror bounces of every hit, depth %d): an image's time is the sum of the two. Memory: "
@@ -154,22 +140,22 @@ static void print_header(rp_run *r, FILE *f)
         char his[128];
         if (i == SC_FLAKE) snprintf(his, sizeof his, "his Table 1: %d spheres", w->t1_spheres);
         else snprintf(his, sizeof his, "his Table 2: %.0f triangles, grid %s", w->t2_tris[i - 1], w->t2_grid[i - 1]);
-        if (r->standin_reason[i][0])
-            report_bullet(f, 1, "%s = Woo's %s (%s): **STAND-IN** for %s, which is not on this machine (%s). %s", r->label[i],
-                          d->image, his, d->load, r->standin_reason[i], d->standin_why);
-        else report_bullet(f, 1, "%s = Woo's %s (%s): %s", r->label[i], d->image, his, d->why);
+        if (r->k.standin_reason[i][0])
+            report_bullet(f, 1, "%s = Woo's %s (%s): **STAND-IN** for %s, which is not on this machine (%s). %s", r->k.label[i],
+                          d->image, his, d->load, r->k.standin_reason[i], d->standin_why);
+        else report_bullet(f, 1, "%s = Woo's %s (%s): %s", r->k.label[i], d->image, his, d->why);
     }
     report_end(f);
 }
 
-static void table1(rp_run *r, FILE *f)
+static void table1(woo_run *r, FILE *f)
 {
     const rp_config *c = &r->cf;
     const woo_figures *w = &r->woo;
     report_section(f, "Table 1: Ray Box vs. Voxel Traversal",
                    "%s, primary rays only, %dx%d, one sample per pixel. Ray Box = grid-raybox with only raybox=on "
                    "(plain Snyder-Barr); Raw Traversal = grid.",
-                   r->shown[SC_FLAKE], c->t1_w, c->t1_h);
+                   r->k.shown[SC_FLAKE], c->t1_w, c->t1_h);
     report_table(f, "#Sphere:|Grid Res|Image Res|Ray Box ms:|Ray Box tests/ray:|Ray Box box tests/ray:|Raw Traversal ms:|"
                     "Raw tests/ray:|Raw / Ray Box:|real mismatches:");
     double rb[4], raw[4], ratio[4], woo_ratio[4], cut = 0, box = 0;
@@ -224,7 +210,7 @@ static void table1(rp_run *r, FILE *f)
                    cut, box);
 }
 
-static void table2(rp_run *r, FILE *f)
+static void table2(woo_run *r, FILE *f)
 {
     const woo_figures *w = &r->woo;
     char rays[96];
@@ -236,7 +222,7 @@ static void table2(rp_run *r, FILE *f)
                     "real mismatches old / new:");
     for (int i = 0; i < 3; i++) {
         const meas *o = r->t2_old[i], *n = r->t2_new[i];
-        report_row(f, "%s|%s|%u|%s|%.1f%%|%.1f|%.1f|%.1f%%|%llu|%llu / %llu", woo92_scenes[i + 1].image, r->shown[i + 1],
+        report_row(f, "%s|%s|%u|%s|%.1f%%|%.1f|%.1f|%.1f%%|%llu|%llu / %llu", woo92_scenes[i + 1].image, r->k.shown[i + 1],
                    o->rows[0].prims, o->res_str, saved((double)o->c.prim_tests, (double)n->c.prim_tests), o->ms, n->ms,
                    saved(o->ms, n->ms), (unsigned long long)o->rays, (unsigned long long)o->mm[MM_REAL],
                    (unsigned long long)n->mm[MM_REAL]);
@@ -265,7 +251,7 @@ static void table2(rp_run *r, FILE *f)
                       w->improve_lo, w->improve_hi);
         report_finding(f, "%s (%s): new saves %.1f%% of old's time (Woo's %s: %.1f%%): %s%s; it saves %.1f%% of the "
                           "intersection tests (Woo: %.1f%%).",
-                       woo92_scenes[i + 1].image, r->shown[i + 1], s, woo92_scenes[i + 1].image, woo_saved[i], where,
+                       woo92_scenes[i + 1].image, r->k.shown[i + 1], s, woo92_scenes[i + 1].image, woo_saved[i], where,
                        fabs(s) <= nz ? "; the difference is within this run's timing noise" : "", is, w->t2_isect[i]);
     }
     report_finding(f, "over the three images new saves %.1f..%.1f%% of the time (Woo: %.1f..%.1f%%, \"about %g-%g%%\").", lo,
@@ -290,14 +276,14 @@ static void table2(rp_run *r, FILE *f)
                    ours, join(woo_saved, 3, "%.1f", j2, sizeof j2), join(w->t2_isect, 3, "%.1f", j3, sizeof j3));
 }
 
-static void table3(rp_run *r, FILE *f)
+static void table3(woo_run *r, FILE *f)
 {
     const woo_figures *w = &r->woo;
     char rays[96];
     report_section(f, "Table 3: Lamp Image with Levels of Anti-Aliasing",
                    "%s (Woo's lamp), %s, %d / %d / %d stratified samples per pixel (Woo: adaptive sampling, rows %s / %s / "
                    "%s; ours traces every sample). Tri = old + tclip + eyeorigin (Woo s7 alone); New = all switches.",
-                   r->shown[SC_LAMP], image_rays(r, rays, sizeof rays), w->spp[0], w->spp[1], w->spp[2], w->t3_rows[0],
+                   r->k.shown[SC_LAMP], image_rays(r, rays, sizeof rays), w->spp[0], w->spp[1], w->spp[2], w->t3_rows[0],
                    w->t3_rows[1], w->t3_rows[2]);
     report_table(f, "Sampling|Old Time ms:|Tri Time ms:|%Improve:|New Time ms:|%Improve:|rays:|real mismatches old / tri / new:");
     double ti[3], ni[3];
@@ -331,14 +317,14 @@ static void table3(rp_run *r, FILE *f)
                    rises ? "rises" : falls ? "FALLS" : "does not rise steadily", rises ? "supporting" : "NOT supporting");
 }
 
-static void table4(rp_run *r, FILE *f)
+static void table4(woo_run *r, FILE *f)
 {
     const woo_figures *w = &r->woo;
     char rays[96];
     report_section(f, "Table 4: Sphere Image with different Subdivision",
                    "%s (Woo's spheres), new (all switches), %s. Space = bytes of the grid (cells, candidate lists, voxel "
                    "boxes; Woo: the whole program).",
-                   r->shown[SC_SPHERES], image_rays(r, rays, sizeof rays));
+                   r->k.shown[SC_SPHERES], image_rays(r, rays, sizeof rays));
     report_table(f, "Grid Res|Time ms:|Space Usage bytes:|tests/ray:|box tests/ray:|real mismatches:");
     double t[4], mem[4];
     for (int i = 0; i < 4; i++) {
@@ -377,10 +363,10 @@ static void table4(rp_run *r, FILE *f)
 }
 
 /* One image's ablation table; its per-step time saved into delta[]. */
-static void ablation_image(rp_run *r, FILE *f, int si, double *delta)
+static void ablation_image(woo_run *r, FILE *f, int si, double *delta)
 {
     const woo_figures *w = &r->woo;
-    report_heading(f, 3, "%s (%s, grid %s)", woo92_scenes[si + 1].image, r->shown[si + 1], r->abl[si][0]->res_str);
+    report_heading(f, 3, "%s (%s, grid %s)", woo92_scenes[si + 1].image, r->k.shown[si + 1], r->abl[si][0]->res_str);
     report_table(f, "Step|Time ms:|tests/ray:|box tests/ray:|% vs old:|% vs prev:|real mismatches:");
     for (int k = 0; k < ABL_N; k++) {
         const meas *m = r->abl[si][k], *o = r->abl[si][0], *p = r->abl[si][k ? k - 1 : 0];
@@ -418,7 +404,7 @@ static void ablation_image(rp_run *r, FILE *f, int si, double *delta)
                    effect(delta[ABL_N - 1], e4, sizeof e4), effect(delta[ABL_N - 2], e5, sizeof e5));
 }
 
-static void ablation(rp_run *r, FILE *f)
+static void ablation(woo_run *r, FILE *f)
 {
     char rays[96];
     report_section(f, "Ablation: Woo's switches added one at a time",
@@ -446,16 +432,8 @@ static void ablation(rp_run *r, FILE *f)
                    helps[0] ? helps : "none", hurts[0] ? hurts : "none");
 }
 
-typedef struct { const char *name; meas **list; int n; } table_ref;
-
-static void verification(rp_run *r, FILE *f)
+static void verification(woo_run *r, FILE *f)
 {
-    report_section(f, "Verification against Embree",
-                   "Every measurement's warm-up answers, ray by ray, against Embree's (harness/verify.h: edge = within float "
-                   "noise of an edge or silhouette, origin = the ray starts within rounding of the disputed surface, tol = "
-                   "same primitive with t off by float noise, refwrong = the exact judge sides with us, real = a bug, "
-                   "unjudged = the judge's time budget ran out).");
-    report_table(f, "Table|measurements:|rays:|agree:|edge:|origin:|tol:|refwrong:|real:|unjudged:");
     meas *flat[3 * ABL_N];
     for (int si = 0; si < 3; si++)
         for (int k = 0; k < ABL_N; k++) flat[si * ABL_N + k] = r->abl[si][k];
@@ -463,33 +441,14 @@ static void verification(rp_run *r, FILE *f)
     for (int i = 0; i < 4; i++) t1[2 * i] = r->t1_raybox[i], t1[2 * i + 1] = r->t1_raw[i];
     for (int i = 0; i < 3; i++) t2[2 * i] = r->t2_old[i], t2[2 * i + 1] = r->t2_new[i];
     for (int i = 0; i < 3; i++) t3[3 * i] = r->t3_old[i], t3[3 * i + 1] = r->t3_tri[i], t3[3 * i + 2] = r->t3_new[i];
-    meas *all[MEAS_MAX];
-    for (int i = 0; i < r->nmeas; i++) all[i] = &r->store[i];
-    table_ref tabs[] = {{"Table 1", t1, 8}, {"Table 2", t2, 6}, {"Table 3", t3, 9}, {"Table 4", r->t4, 4},
-                        {"Ablation", flat, 3 * ABL_N}, {"all (each measurement once)", all, r->nmeas}};
-    int ntabs = (int)(sizeof tabs / sizeof tabs[0]);
-    uint64_t rays = 0, mm[MM_CLASSES] = {0};
-    for (int t = 0; t < ntabs; t++) {
-        uint64_t agree = 0;
-        rays = 0;
-        memset(mm, 0, sizeof mm);
-        for (int i = 0; i < tabs[t].n; i++) {
-            rays += tabs[t].list[i]->rays, agree += tabs[t].list[i]->agree;
-            for (int c = 0; c < MM_CLASSES; c++) mm[c] += tabs[t].list[i]->mm[c];
-        }
-        report_row(f, "%s|%d|%llu|%llu|%llu|%llu|%llu|%llu|%llu|%llu", tabs[t].name, tabs[t].n, (unsigned long long)rays,
-                   (unsigned long long)agree, (unsigned long long)mm[MM_EDGE], (unsigned long long)mm[MM_ORIGIN],
-                   (unsigned long long)mm[MM_TOL], (unsigned long long)mm[MM_REFWRONG], (unsigned long long)mm[MM_REAL],
-                   (unsigned long long)mm[MM_UNJUDGED]);
-    }
-    report_end(f);
-    /* The last row is every measurement once: the verdict. */
-    report_para(f, "%s: %llu real mismatches in %d measurements (%llu rays).", mm[MM_REAL] ? "FAILED" : "verified",
-                (unsigned long long)mm[MM_REAL], tabs[ntabs - 1].n, (unsigned long long)rays);
+    const rp_group groups[] = {{"Table 1", t1, 8}, {"Table 2", t2, 6}, {"Table 3", t3, 9}, {"Table 4", r->t4, 4},
+                               {"Ablation", flat, 3 * ABL_N}};
+    rp_verification(&r->k, f, groups, (int)(sizeof groups / sizeof groups[0]));
 }
 
-void woo92_report(rp_run *r, FILE *f)
+void woo92_report(void *ctx, FILE *f)
 {
+    woo_run *r = ctx;
     print_header(r, f);
     table1(r, f);
     table2(r, f);

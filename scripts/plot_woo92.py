@@ -26,38 +26,19 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-REQUIRED = ("table", "variant", "grid_res", "scene", "workload", "rays", "trace_ms",
-            "trace_ms_min", "trace_ms_max", "tests_per_ray", "box_tests_per_ray", "mem_bytes")
 PROG = "plot_woo92.py"
 
 # The CSV reader, number parsing, errors and figure saving are plot.py's.
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot as common  # noqa: E402
+from plot_reproduce import REQUIRED, figure_value, footer, images  # noqa: E402
+import plot_reproduce  # noqa: E402
 
 common.PROG = PROG
 fail, num, save = common.fail, common.num, common.save
 
-# Woo's published figures: the one data file the C report reads too.
-FIGURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "data", "woo92_figures.csv")
 ABL_ORDER = ("old", "+woo90", "+mtf=hit", "+mtf=almost", "+dynbox", "+voxbox", "+beta=0.75",
              "+tclip", "+eyeorigin", "+rayid=twopass")
-
-
-def figure_value(text):
-    """A figure as printed: 'm:ss' (or 'h:mm:ss') as seconds, else a float."""
-    value = 0.0
-    for part in text.split(":"):
-        value = 60 * value + float(part)
-    return value
-
-
-def load_figures(path=FIGURES):
-    """{table: {row: {quantity: value}}} from the figures file, rows in file order."""
-    rows = common.load_rows(path, ("table", "row", "quantity", "value"))
-    figs = {}
-    for r in rows:
-        figs.setdefault(r["table"], {}).setdefault(r["row"], {})[r["quantity"]] = r["value"]
-    return figs
 
 
 def woo_table2(figs):
@@ -68,44 +49,6 @@ def woo_table2(figs):
 def woo_table3(figs, quantity):
     """One %Improve column of Woo's Table 3 (tri_improve or new_improve), in his row order."""
     return tuple(figure_value(q[quantity]) for q in figs["table3"].values())
-
-
-class Image:
-    """One measured image: the rows of one (table, variant, scene), summed over workloads."""
-
-    def __init__(self, rows):
-        self.rows = rows
-        self.scene = rows[0]["scene"]
-        self.grid = rows[0]["grid_res"]
-        self.ms = sum(num(r["trace_ms"]) or 0 for r in rows)
-        self.ms_min = sum(num(r["trace_ms_min"]) or 0 for r in rows)
-        self.ms_max = sum(num(r["trace_ms_max"]) or 0 for r in rows)
-        rays = sum(num(r["rays"]) or 0 for r in rows)
-        self.rays = rays
-        self.tests = sum((num(r["tests_per_ray"]) or 0) * (num(r["rays"]) or 0) for r in rows) / rays if rays else 0
-        self.boxes = sum((num(r["box_tests_per_ray"]) or 0) * (num(r["rays"]) or 0) for r in rows) / rays if rays else 0
-        self.mem = num(rows[0]["mem_bytes"]) or 0
-
-    def err(self):
-        """Lower/upper error bar lengths from the min-max of the repeats."""
-        return max(0.0, self.ms - self.ms_min), max(0.0, self.ms_max - self.ms)
-
-
-def images(rows, table):
-    """{(variant, scene): Image} for one table, in first-seen order."""
-    groups = {}
-    for r in rows:
-        if r["table"] == table:
-            groups.setdefault((r["variant"], r["scene"]), []).append(r)
-    return {k: Image(v) for k, v in groups.items()}
-
-
-def footer(fig, rows):
-    """Small footer with machine/cpu, threads, repeats and git revision."""
-    def uniq(col):
-        return ", ".join(v for v in dict.fromkeys(r.get(col, "") for r in rows) if v) or "?"
-    fig.text(0.01, 0.005, f"machine: {uniq('machine')} | cpu: {uniq('cpu')} | timed threads: {uniq('threads')} | "
-             f"repeat: {uniq('repeat')} | git: {uniq('git_rev')}", fontsize=7, color="0.35", ha="left", va="bottom")
 
 
 def plot_table1(rows, path, written):
@@ -281,7 +224,7 @@ def main(argv=None):
     rows, out = common.rows_and_folder(args, REQUIRED)
     if not rows:
         return 0
-    figs = load_figures()
+    figs = plot_reproduce.load_figures("woo92")
     written = []
     plot_table1(rows, os.path.join(out, "woo92_table1.png"), written)
     plot_table2(rows, figs, os.path.join(out, "woo92_table2.png"), written)

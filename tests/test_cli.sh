@@ -187,6 +187,20 @@ for t in "Table 1" "Table 2" "Table 3" "Table 4" "Ablation" "finding:"; do
     grep -q "$t" "$T/woo/woo92_tables.md" 2>/dev/null && ok || bad "woo92_tables.md lacks '$t'"
 done
 ls "$T"/woo/woo92_*.png > /dev/null 2>&1 && ok || bad "reproduce woo92 wrote no PNG"
+# --- reproduce havran (quick, two scenes): 13 variants x 3 ray sets per scene, their ratios beside ours
+expect 0 "verified: 0 real mismatches in 26 measurements" -- "$AB" reproduce havran --quick --scenes tetra,spd:tree --out "$T/hav" --quiet
+[ "$(head -1 "$T/hav/havran.csv" | cut -d, -f1-5)" = "table,variant,grid_res,scene,prims" ] && ok || bad "havran.csv header"
+[ "$(grep -c '^grids,\|^octrees,\|^bsp,' "$T/hav/havran.csv")" = 78 ] && ok || bad "havran.csv: not 26 measurements x 3 workloads"
+[ "$(grep -c '^octrees,O84-A@[4-7],,spd:tree,' "$T/hav/havran.csv")" = 12 ] && ok || bad "havran.csv: O84-A of spd:tree not at 4 depths x 3 sets"
+for t in "Grids: D = 1 against D = 20" "Octrees: O84-C against O84-A" "Every technique against the D = 20 grid" \
+         "BSP: Kaplan" "| spd:tree | 64x64x2 |" "theirs D1/D20"; do
+    grep -qF "$t" "$T/hav/havran_tables.md" 2>/dev/null && ok || bad "havran_tables.md lacks '$t'"
+done
+# their figures beside ours: tree's D1/D20 from data/havran_figures.csv, 1517.0 / 781.3 = 1.94
+grep -q '^| spd:tree | 64x64x2 | 173x173x5 |.*| 1\.94 |' "$T/hav/havran_tables.md" && ok || bad "havran grid table lacks their tree ratio 1.94"
+ls "$T"/hav/havran_{grids,octrees,across}.png > /dev/null 2>&1 && ok || bad "reproduce havran wrote no PNG"
+expect 2 "unknown scene 'nope' .known: balls, gears" -- "$AB" reproduce havran --scenes tetra,nope
+expect 2 "Woo's tables need all four" -- "$AB" reproduce woo92 --scenes balls
 expect 2 "unknown experiment 'nope'" -- "$AB" reproduce nope
 expect 0 "woo92.*--quick|--quick" -- "$AB" reproduce --help
 expect 2 "usage: accelbench reproduce" -- "$AB" reproduce
