@@ -16,13 +16,13 @@ static double ratio(double a, double b) { return b > 0 ? a / b : NAN; }
 
 /* Is a slower than b beyond the noise of the two (a's time over b's minus
  * one, in percent, above the larger spread)? */
-static bool slower(const meas *a, const meas *b) { return 100.0 * (ratio(a->ms, b->ms) - 1.0) > rp_noise2(a, b); }
+static bool slower(const meas *a, const meas *b) { return 100.0 * (rp_relative(a, b) - 1.0) > rp_noise2(a, b); }
 
 static int argmin_meas(meas *const *m, int n)
 {
     int b = 0;
     for (int i = 1; i < n; i++)
-        if (m[i]->ms < m[b]->ms) b = i;
+        if (rp_vs_embree(m[i]) < rp_vs_embree(m[b])) b = i;
     return b;
 }
 
@@ -77,6 +77,10 @@ static void print_header(havran_run *r, FILE *f)
                         "voxels or nodes visited per ray). Timed path: %s.",
                   k->o.repeat, k->o.repeat == 1 ? "" : "s", k->o.repeat == 1 ? " (1 repeat: no noise estimate)" : "",
                   paths[0] ? paths : "none");
+    report_bullet(f, 0, "ratios: every ratio between two of our measurements is the ratio of their Embree-paired ratios, "
+                        "(A / Embree) / (B / Embree), each measurement's time over the Embree samples interleaved with it "
+                        "on the same rays: these machines are shared, and a slowdown between two measurements would tilt a "
+                        "ratio of raw times. The ms columns are raw medians, for scale only.");
     report_bullet(f, 0, "noise: \"beyond noise\" means by more than the larger min-max spread of the two measurements' "
                         "repeats, and at least 1%%. Read differences of a few percent as ties.");
     report_bullet(f, 0, "mode: %s",
@@ -115,7 +119,7 @@ static void grids(havran_run *r, FILE *f)
     FOR_SCENE(r, i) {
         const meas *a = r->d1[i], *b = r->d20[i];
         report_row(f, "%s|%s|%s|%.1f|%.1f|%.2f|%.2f|%.1f|%.1f|%.1f|%.1f|%.2f|%.2f", r->k.shown[i], a->res_str, b->res_str,
-                   a->ms, b->ms, ratio(a->ms, b->ms), ratio(h->d1_trace[i], h->d20_trace[i]), rp_tests(a), rp_tests(b),
+                   a->ms, b->ms, rp_relative(a, b), ratio(h->d1_trace[i], h->d20_trace[i]), rp_tests(a), rp_tests(b),
                    rp_steps(a), rp_steps(b), ratio(b->build_ms, a->build_ms), ratio(h->d20_build[i], h->d1_build[i]));
     }
     report_end(f);
@@ -155,7 +159,7 @@ static void octrees(havran_run *r, FILE *f)
             for (int s = 0; s < a->rows[0].nstats; s++)
                 if (!strcmp(a->rows[0].stats[s].name, "leaves")) leaves_a = a->rows[0].stats[s].value;
             report_row(f, "%s|%d|%.1f|%.1f|%.2f|%.2f|%.1f|%.1f|%.1f|%.1f|%.0f|%.0f", d ? "" : r->k.shown[i], h->depth_min + d,
-                       c->ms, a->ms, ratio(a->ms, c->ms), ratio(h->o84a[i][d], h->o84c[i][d]), rp_tests(c), rp_tests(a),
+                       c->ms, a->ms, rp_relative(a, c), ratio(h->o84a[i][d], h->o84c[i][d]), rp_tests(c), rp_tests(a),
                        rp_steps(c), rp_steps(a), leaves_c, leaves_a);
             cells++;
             if (slower(c, a)) a_wins++;
@@ -178,7 +182,7 @@ static void octrees(havran_run *r, FILE *f)
     FOR_SCENE(r, i) {
         int bc = argmin_meas(r->oc[i], HV_DEPTHS), ba = argmin_meas(r->oa[i], HV_DEPTHS);
         int tc = argmin(h->o84c[i], HV_DEPTHS), ta = argmin(h->o84a[i], HV_DEPTHS);
-        double ours = ratio(r->oa[i][ba]->ms, r->oc[i][bc]->ms), their = ratio(h->o84a[i][ta], h->o84c[i][tc]);
+        double ours = rp_relative(r->oa[i][ba], r->oc[i][bc]), their = ratio(h->o84a[i][ta], h->o84c[i][tc]);
         report_row(f, "%s|%d|%d|%d|%d|%.2f|%.2f", r->k.shown[i], h->depth_min + bc, h->depth_min + tc, h->depth_min + ba,
                    h->depth_min + ta, ours, their);
         char one[64];
@@ -232,12 +236,12 @@ static void across(havran_run *r, FILE *f)
         double theirs[T_THEIRS] = {h->d1_trace[i], h->d20_trace[i], h->o84c[i][argmin(h->o84c[i], HV_DEPTHS)],
                                    h->o84a[i][argmin(h->o84a[i], HV_DEPTHS)]};
         int ours4 = argmin_meas(t, T_THEIRS), their4 = argmin(theirs, T_THEIRS), all = argmin_meas(t, T_N);
-        double d20 = t[T_D20]->ms;
-        report_row(f, "%s|%.1f|%.2f|%.2f|%.2f|%.2f|%.2f|%.2f|%.2f|%.2f|%.2f|%s|%s|%s|%.1f", r->k.shown[i], d20,
-                   ratio(t[T_D1]->ms, d20), ratio(theirs[T_D1], theirs[T_D20]), ratio(t[T_OC]->ms, d20),
-                   ratio(theirs[T_OC], theirs[T_D20]), ratio(t[T_OA]->ms, d20), ratio(theirs[T_OA], theirs[T_D20]),
-                   ratio(t[T_SEQ]->ms, d20), ratio(t[T_REC]->ms, d20), ratio(t[T_SAH]->ms, d20), tech_names[ours4],
-                   tech_names[their4], tech_names[all], ratio(t[all]->ms, t[all]->embree_ms));
+        const meas *d20 = t[T_D20];
+        report_row(f, "%s|%.1f|%.2f|%.2f|%.2f|%.2f|%.2f|%.2f|%.2f|%.2f|%.2f|%s|%s|%s|%.1f", r->k.shown[i], d20->ms,
+                   rp_relative(t[T_D1], d20), ratio(theirs[T_D1], theirs[T_D20]), rp_relative(t[T_OC], d20),
+                   ratio(theirs[T_OC], theirs[T_D20]), rp_relative(t[T_OA], d20), ratio(theirs[T_OA], theirs[T_D20]),
+                   rp_relative(t[T_SEQ], d20), rp_relative(t[T_REC], d20), rp_relative(t[T_SAH], d20), tech_names[ours4],
+                   tech_names[their4], tech_names[all], rp_vs_embree(t[all]));
         /* A different winner counts only when ours beats theirs' winner beyond noise. */
         if (ours4 != their4 && slower(t[their4], t[ours4])) {
             char one[96];
@@ -265,7 +269,7 @@ static void bsps(havran_run *r, FILE *f)
     FOR_SCENE(r, i) {
         const meas *s = r->bsp_seq[i], *c = r->bsp_rec[i], *a = r->bsp_sah[i];
         report_row(f, "%s|%.1f|%.1f|%.2f|%.1f|%.2f|%.1f|%.1f|%.1f|%.1f|%.1f|%.1f", r->k.shown[i], s->ms, c->ms,
-                   ratio(s->ms, c->ms), a->ms, ratio(a->ms, c->ms), rp_tests(s), rp_tests(c), rp_tests(a), rp_steps(s),
+                   rp_relative(s, c), a->ms, rp_relative(a, c), rp_tests(s), rp_tests(c), rp_tests(a), rp_steps(s),
                    rp_steps(c), rp_steps(a));
         rec_faster += slower(s, c);
         sah_faster += slower(c, a);

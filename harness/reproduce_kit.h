@@ -120,6 +120,17 @@ static inline double rp_per_ray(const meas *m, uint64_t v) { return m->rays ? (d
 static inline double rp_tests(const meas *m) { return rp_per_ray(m, m->c.prim_tests); }
 static inline double rp_boxes(const meas *m) { return rp_per_ray(m, m->c.box_tests); }
 static inline double rp_steps(const meas *m) { return rp_per_ray(m, m->c.steps); }
+/* Its time over the Embree samples interleaved with it (the sums of both
+ * sides' medians over the sets). */
+static inline double rp_vs_embree(const meas *m) { return m->embree_ms > 0 ? m->ms / m->embree_ms : 0.0; }
+/* a's time relative to b's on the same rays, through their paired Embree
+ * samples: (a / Embree) / (b / Embree), so a machine that slows down
+ * between the two measurements (shared, noisy) does not tilt the ratio. */
+static inline double rp_relative(const meas *a, const meas *b)
+{
+    double eb = rp_vs_embree(b);
+    return eb > 0 ? rp_vs_embree(a) / eb : 0.0;
+}
 /* The min-max spread of a measurement's repeats, % of its median. */
 static inline double rp_spread(const meas *m) { return m->ms > 0 ? 100.0 * (m->ms_max - m->ms_min) / m->ms : 0.0; }
 /* The noise band of a comparison: the larger spread, at least 1%. */

@@ -14,7 +14,9 @@ to it (or in --out):
                       (log scale)
 
 An image's time is the sum of its rows' trace_ms over workloads (primary,
-shadow, reflection), as in the printed tables. Their numbers come from
+shadow, reflection); every ratio between two of our measurements is the
+ratio of their times over the Embree samples paired with each (embree_ms),
+as in the printed tables. Their numbers come from
 data/havran_figures.csv, which accelbench's report reads too. Only ratios
 are plotted: their seconds and our milliseconds are not comparable. A table
 missing from the CSV is skipped. Exit status 2 for a missing file or
@@ -49,6 +51,11 @@ def scene_names(im):
     return scenes, [s.split(":")[1] if s.startswith("spd:") else s for s in scenes]
 
 
+def relative(a, b):
+    """a's time over b's through their Embree-paired ratios (as the printed tables), or None."""
+    return a.vs_embree / b.vs_embree if a.vs_embree and b.vs_embree else None
+
+
 def bars(ax, labels, series, title, ylabel):
     """Grouped bars: series is [(name, values, style)]; None values are left out."""
     width = 0.8 / len(series)
@@ -69,7 +76,7 @@ def plot_grids(rows, figs, path, written):
     if not im:
         return
     scenes, names = scene_names(im)
-    ours = [im[("D1", s)].ms / im[("D20", s)].ms if im[("D20", s)].ms else None for s in scenes]
+    ours = [relative(im[("D1", s)], im[("D20", s)]) for s in scenes]
     theirs = []
     for n in names:
         d1, d20 = their_number(figs, "grids", n, "d1_trace"), their_number(figs, "grids", n, "d20_trace")
@@ -95,8 +102,9 @@ def plot_octrees(rows, figs, path, written):
     for i, (scene, name) in enumerate(zip(scenes, names)):
         ax = axes[i // cols][i % cols]
         for k, kind in enumerate(("O84-C", "O84-A")):
-            pts = sorted((int(v.split("@")[1]), img.ms) for (v, s), img in im.items() if s == scene and v.startswith(kind))
-            best_c = min(img.ms for (v, s), img in im.items() if s == scene and v.startswith("O84-C"))
+            pts = sorted((int(v.split("@")[1]), img.vs_embree) for (v, s), img in im.items()
+                         if s == scene and v.startswith(kind))
+            best_c = min(img.vs_embree for (v, s), img in im.items() if s == scene and v.startswith("O84-C"))
             ax.plot([p[0] for p in pts], [p[1] / best_c for p in pts], marker="o", color=f"C{k}", label=f"{kind} ours")
             key = "o84c" if kind == "O84-C" else "o84a"
             theirs = [(d, their_number(figs, "octrees", name, f"{key}_d{d}")) for d, _ in pts]
@@ -130,7 +138,7 @@ def plot_across(rows, figs, path, written):
     scenes, names = scene_names(tables)
 
     def best(scene, prefix):
-        ms = [img.ms for (v, s), img in tables.items() if s == scene and v.startswith(prefix)]
+        ms = [img.vs_embree for (v, s), img in tables.items() if s == scene and v.startswith(prefix)]
         return min(ms) if ms else None
 
     def their_best(name, key):

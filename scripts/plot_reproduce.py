@@ -44,6 +44,9 @@ class Image:
         self.ms = sum(num(r["trace_ms"]) or 0 for r in rows)
         self.ms_min = sum(num(r["trace_ms_min"]) or 0 for r in rows)
         self.ms_max = sum(num(r["trace_ms_max"]) or 0 for r in rows)
+        self.embree_ms = sum(num(r.get("embree_ms")) or 0 for r in rows)
+        # time over the Embree samples interleaved with it: ratios of these are stable on a shared machine
+        self.vs_embree = self.ms / self.embree_ms if self.embree_ms else None
         rays = sum(num(r["rays"]) or 0 for r in rows)
         self.rays = rays
         self.tests = self.per_ray("tests_per_ray")
