@@ -31,11 +31,20 @@
  * The two ops tables come from one macro (GRID_OPS, at the end).
  *
  * Parameters (grid default / grid-raybox default):
- *   res=auto|cubic:D|NxMxK auto / auto: Woo s8.2, m = n^(1/3) * density,
- *                    X = s_x / maxS * m (Y, Z alike), rounded, each >= 1,
- *                    at most GRID_AUTO_MAX (grid_auto_resolution()).
- *                    cubic:D: cubic voxels, about D x n of them (Havran and
- *                    Sixta, RTN 12(1) 1999; grid_cubic_resolution()).
+ *   res=auto|cubic:D|NxMxK cubic:20 / auto. auto: Woo s8.2, m = n^(1/3) *
+ *                    density, X = s_x / maxS * m (Y, Z alike), rounded,
+ *                    each >= 1, at most GRID_AUTO_MAX
+ *                    (grid_auto_resolution()). cubic:D: cubic voxels, about
+ *                    D x n of them (Havran and Sixta, RTN 12(1) 1999;
+ *                    grid_cubic_resolution()). grid's default is cubic:20
+ *                    because a benchmark said so (scripts/bench_subdivision.sh,
+ *                    results/subdivision-20261202-054223: faster than res=auto
+ *                    in 52 of 57 cells, 2.4x in geometric mean, up to 40x on
+ *                    the SPD scenes whose flat boxes Woo's rule cuts into
+ *                    one layer; res=auto up to 1.3x faster on primary rays of
+ *                    four closed meshes), at ~12x the grid's memory;
+ *                    grid-raybox keeps Woo's rule, whose implementation it
+ *                    reproduces.
  *   density=1.0      multiplies m (auto only).
  *   insert=exact|bbox    exact / exact: a primitive goes in every voxel its
  *                    surface touches (prim_overlaps_box) or every voxel its
@@ -184,9 +193,9 @@
 
 enum { MTF_OFF = 0, MTF_HIT = 1, MTF_ALMOST = 2 };
 
-#define GRID_PARAM_TABLE(RAYBOX, MTF, DYN, VOX, BETA, TCLIP, WOO90)                                                  \
+#define GRID_PARAM_TABLE(RES, RAYBOX, MTF, DYN, VOX, BETA, TCLIP, WOO90)                                             \
     {                                                                                                                \
-        {"res", "auto", "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis) | cubic:D (cubic voxels, about D x N: Havran-Sixta RTN 12(1)) | NxMxK"}, \
+        {"res", RES, "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis) | cubic:D (cubic voxels, about D x N: Havran-Sixta RTN 12(1)) | NxMxK"}, \
         {"density", "1.0", "multiplies m in res=auto: > 0"},                                                         \
         {"insert", "exact", "voxel insertion: exact (prim_overlaps_box) | bbox (bounds overlap)"},                   \
         {"mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive: on|off"},                      \
@@ -203,8 +212,8 @@ enum { MTF_OFF = 0, MTF_HIT = 1, MTF_ALMOST = 2 };
         {NULL, NULL, NULL},                                                                                          \
     }
 
-static const accel_param grid_params[] = GRID_PARAM_TABLE("off", "off", "off", "off", "0", "off", "off");
-static const accel_param grid_raybox_params[] = GRID_PARAM_TABLE("on", "almost", "on", "on", "0.75", "on", "on");
+static const accel_param grid_params[] = GRID_PARAM_TABLE("cubic:20", "off", "off", "off", "off", "0", "off", "off");
+static const accel_param grid_raybox_params[] = GRID_PARAM_TABLE("auto", "on", "almost", "on", "on", "0.75", "on", "on");
 
 typedef struct {
     accel base;
@@ -873,7 +882,7 @@ static bool grid_order_dependent(const accel *a)
  * also mtf and rayid, which make it order-dependent (traced on one thread,
  * like grid-raybox). */
 static const char *const grid_variants[] = {"mailbox=off", "insert=bbox", "voxbox=on,woo90=on,tclip=on", "res=4x4x4",
-                                            "mtf=almost,rayid=twopass", "res=cubic:20", NULL};
+                                            "mtf=almost,rayid=twopass", "res=auto", NULL};
 static const char *const grid_raybox_variants[] = {"mtf=off", "raybox=off", "res=4x4x4",
                                                    "eyeorigin=on,rayid=twopass", NULL};
 

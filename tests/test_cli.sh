@@ -77,6 +77,15 @@ hashes = {(r["scene"], r["workload"]): r["rayset_hash"] for r in rows if r["acce
 assert all(hashes[(r["scene"], r["workload"])] == r["rayset_hash"] for r in rows), "accels saw different rays"
 PY
 ls "$T"/run/*mrays*.png > /dev/null 2>&1 && ok || bad "no plots written next to the CSV"
+# summary.py: per workload, exhaustive's ratio to Embree from the CSV and the winner; Embree's rows left out
+SUMMARY="$(dirname "$0")/../scripts/summary.py"
+"$SUMMARY" "$csv" --out "$T/summary.md" && ok || bad "summary.py failed"
+want=$(/usr/bin/python3 -c 'import csv,sys; r=[r for r in csv.DictReader(open(sys.argv[1])) if r["accel"]=="exhaustive" and r["scene"]=="spd:balls:1" and r["workload"]=="shadow"][0]; print("| spd:balls:1 | %.2f | exhaustive |" % float(r["ratio_vs_embree"]))' "$csv")
+grep -qF "$want" "$T/summary.md" && ok || bad "summary.md lacks '$want'"
+grep -q '^| exhaustive | 10 | 10 | .* | 0 |$' "$T/summary.md" && ok || bad "summary.md per-configuration row"
+! grep -q '^| embree ' "$T/summary.md" && ok || bad "summary.md lists embree"
+{ head -1 "$csv"; grep ',embree,' "$csv"; } > "$T/embree_only.csv"
+expect 2 "no rows of an accelerator other than embree" -- "$SUMMARY" "$T/embree_only.csv"
 # grids: their statistics in the stat_ columns and on the progress line; grid-raybox (it mutates) runs on 1
 # thread and so does the Embree series it is paired with (the ratio is of equal thread counts)
 "$AB" run --scenes spd:balls:1 --accels grid,grid-raybox --workloads primary --res 24x24 --repeat 3 --threads 2 \

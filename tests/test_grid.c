@@ -319,16 +319,20 @@ static void test_auto_resolution(void)
           strstr(why, "res=cubic:0"));
     scene_free(balls);
 
-    /* A built grid uses it. */
+    /* A built grid uses them: res=auto Woo's rule (grid-raybox's default), and grid's default cubic:20. */
     scene_t *s = test_scene("bunny");
-    accel *a = must_build("grid", s, "");
-    int want[3], got[3];
-    grid_auto_resolution(s->prims.box, s->prims.count, 1.0, want);
-    grid_debug_dims(a, got);
-    CHECK_MSG(memcmp(want, got, sizeof want) == 0, "%d %d %d vs %d %d %d", got[0], got[1], got[2], want[0], want[1],
-              want[2]);
-    printf("bunny: %u prims, auto res %dx%dx%d\n", s->prims.count, got[0], got[1], got[2]);
-    a->ops->destroy(a);
+    const char *cfgs[][2] = {{"grid", "res=auto"}, {"grid-raybox", ""}, {"grid", ""}};
+    for (int i = 0; i < 3; i++) {
+        accel *a = must_build(cfgs[i][0], s, cfgs[i][1]);
+        int want[3], got[3];
+        if (i < 2) grid_auto_resolution(s->prims.box, s->prims.count, 1.0, want);
+        else grid_cubic_resolution(s->prims.box, s->prims.count, 20.0, want);
+        grid_debug_dims(a, got);
+        CHECK_MSG(memcmp(want, got, sizeof want) == 0, "%s [%s]: %d %d %d vs %d %d %d", cfgs[i][0], cfgs[i][1], got[0],
+                  got[1], got[2], want[0], want[1], want[2]);
+        printf("bunny: %u prims, %s [%s] res %dx%dx%d\n", s->prims.count, cfgs[i][0], cfgs[i][1], got[0], got[1], got[2]);
+        a->ops->destroy(a);
+    }
     scene_free(s);
 }
 

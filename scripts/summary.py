@@ -1,0 +1,100 @@
+#!/usr/bin/python3
+"""Summarise an accelbench matrix.csv as Markdown tables (stdout, or --out FILE).
+
+For every accelerator configuration (labelled as plot.py labels them: accel,
+or accel[params that differ]) over every scene of the file:
+  - one table per workload: per scene, each configuration's ratio to Embree
+    (the paired median, ratio_vs_embree: >1 is slower than Embree) and, in
+    a last column, the configuration with the lowest ratio (the winner);
+  - one table of the per-configuration medians over scenes and workloads:
+    geometric-mean ratio to Embree, Mrays/s, tests, box tests and steps per
+    ray, build ms and bytes per primitive, and the number of (scene,
+    workload) cells it wins;
+  - the count of real mismatches (which must be 0).
+Embree's own rows (ratio 1 by definition) are left out. Every number comes
+from the CSV; a cell measured twice counts once (its last row, as plot.py).
+Exit status 2 for a missing file or missing columns.
+"""
+import argparse
+import math
+import os
+import statistics
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot as common  # noqa: E402
+
+PROG = "summary.py"
+REQUIRED = ("scene", "accel", "params", "workload", "threads", "ratio_vs_embree", "mrays_per_s", "tests_per_ray",
+            "box_tests_per_ray", "steps_per_ray", "build_ms", "bytes_per_prim", "mismatch_real")
+num = common.num
+
+
+def geomean(values):
+    values = [v for v in values if v and v > 0]
+    return math.exp(sum(math.log(v) for v in values) / len(values)) if values else None
+
+
+def fmt(v, digits=2):
+    return "" if v is None else f"{v:.{digits}f}"
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("csv", metavar="CSV", help="matrix.csv written by accelbench run")
+    p.add_argument("--out", metavar="FILE", help="write the Markdown here (default: stdout)")
+    args = p.parse_args(argv)
+    common.PROG = PROG
+    rows = common.dedup_rows(common.load_rows(args.csv, REQUIRED), args.csv)
+    rows = [r for r in rows if r["accel"] != "embree"]
+    if not rows:
+        common.fail(f"{args.csv}: no rows of an accelerator other than embree")
+    labels = common.config_labels(rows)
+    configs = list(labels)
+    scenes = common.ordered(r["scene"] for r in rows)
+    workloads = common.ordered((r["workload"] for r in rows), common.WORKLOAD_ORDER)
+    cell = {(common.config_key(r), r["scene"], r["workload"]): r for r in rows}
+    out = []
+    out.append(f"# Summary of {args.csv}\n")
+    out.append("Ratio = the accelerator's time over Embree's on the same rays, the median of samples interleaved "
+               "with Embree's (ratio_vs_embree; >1: slower than Embree).\n")
+    wins = {c: 0 for c in configs}
+    for w in workloads:
+        out.append(f"## {w}: ratio to Embree\n")
+        out.append("| scene | " + " | ".join(labels[c] for c in configs) + " | winner |")
+        out.append("|---|" + "---:|" * len(configs) + "---|")
+        for s in scenes:
+            vals = [num(cell[(c, s, w)]["ratio_vs_embree"]) if (c, s, w) in cell else None for c in configs]
+            present = [(v, c) for v, c in zip(vals, configs) if v]
+            best = min(present)[1] if present else None
+            if best:
+                wins[best] += 1
+            out.append(f"| {s} | " + " | ".join(fmt(v) for v in vals) + f" | {labels[best] if best else ''} |")
+        out.append("")
+    out.append("## Per configuration, over every scene and workload\n")
+    out.append("Geometric mean of the ratio; medians of the rest over the configuration's cells.\n")
+    out.append("| configuration | cells | wins | ratio (geomean) | Mrays/s | tests/ray | box tests/ray | steps/ray | "
+               "build ms | bytes/prim | real mismatches |")
+    out.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for c in configs:
+        rs = [r for (k, _, _), r in cell.items() if k == c]
+
+        def med(col):
+            vals = [num(r[col]) for r in rs if num(r[col]) is not None]
+            return statistics.median(vals) if vals else None
+        real = sum(int(num(r["mismatch_real"]) or 0) for r in rs)
+        out.append(f"| {labels[c]} | {len(rs)} | {wins[c]} | {fmt(geomean(num(r['ratio_vs_embree']) for r in rs))} | "
+                   f"{fmt(med('mrays_per_s'), 3)} | {fmt(med('tests_per_ray'), 1)} | {fmt(med('box_tests_per_ray'), 1)} | "
+                   f"{fmt(med('steps_per_ray'), 1)} | {fmt(med('build_ms'), 1)} | {fmt(med('bytes_per_prim'), 1)} | {real} |")
+    out.append("")
+    text = "\n".join(out) + "\n"
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(text)
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
