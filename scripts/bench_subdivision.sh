@@ -27,4 +27,5 @@ $AB run --accels grid,bsp --param grid.res=cubic:20 --param bsp.split=sah "${COM
 $AB run --accels bsp --param bsp.traverse=sequential "${COMMON[@]}"
 $AB run --accels bsp --param bsp.traverse=havran "${COMMON[@]}"
 scripts/plot.py "$OUT/matrix.csv" --quiet
+scripts/summary.py "$OUT/matrix.csv" --out "$OUT/summary.md"
 echo "bench_subdivision: results in $OUT"

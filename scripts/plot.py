@@ -116,15 +116,15 @@ def split_params(params):
     return [p for p in parts if p]
 
 
-def short_params(params, siblings):
-    """Params minus the key=value pairs shared by all siblings, cut to MAX_PARAMS."""
+def short_params(params, siblings, limit=MAX_PARAMS):
+    """Params minus the key=value pairs shared by all siblings, cut to limit characters (None: not cut)."""
     common = set.intersection(*(set(split_params(p)) for p in siblings))
     text = ",".join(p for p in split_params(params) if p not in common) or params or "-"
-    return text if len(text) <= MAX_PARAMS else text[:MAX_PARAMS - 1] + "…"
+    return text if limit is None or len(text) <= limit else text[:limit - 1] + "…"
 
 
-def config_labels(rows):
-    """Map each (accel, params, threads) config to a unique display label."""
+def config_labels(rows, limit=MAX_PARAMS):
+    """Map each (accel, params, threads) config to a unique display label (params cut to limit characters)."""
     params_of, threads_of = {}, {}
     for r in rows:
         accel, params, threads = config_key(r)
@@ -135,7 +135,7 @@ def config_labels(rows):
         accel, params, threads = key
         label = accel
         if len(params_of[accel]) > 1:
-            label += f"[{short_params(params, params_of[accel])}]"
+            label += f"[{short_params(params, params_of[accel], limit)}]"
         if len(threads_of[(accel, params)]) > 1:
             label += f"@{threads}t"
         while label in labels.values():

@@ -49,7 +49,7 @@ def main(argv=None):
     rows = [r for r in rows if r["accel"] != "embree"]
     if not rows:
         common.fail(f"{args.csv}: no rows of an accelerator other than embree")
-    labels = common.config_labels(rows)
+    labels = common.config_labels(rows, limit=None)
     configs = list(labels)
     scenes = common.ordered(r["scene"] for r in rows)
     workloads = common.ordered((r["workload"] for r in rows), common.WORKLOAD_ORDER)
