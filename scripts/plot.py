@@ -35,7 +35,7 @@ from matplotlib.colors import LogNorm  # noqa: E402
 REQUIRED = ("scene", "accel", "workload", "rays", "trace_ms", "mrays_per_s")
 WORKLOAD_ORDER = ("primary", "shadow", "reflection", "diffuse", "random")
 LOG_SPAN = 20.0      # use a log axis when max/min exceeds this
-MAX_PARAMS = 24      # longest params string shown in a label
+MAX_PARAMS = 40      # longest params string shown in a label
 DPI = 110
 PROG = "plot.py"
 
