@@ -25,7 +25,9 @@
  *               entry distance; the nearest is expanded next, and a closest
  *               hit query ends when the nearest entry lies beyond the hit.
  * Each comes as intersect and occluded, counting and counting-free (_fast):
- * traverse.c compiles one body per traversal both ways.
+ * traverse.c compiles the walks of walk.h over these nodes, the walks that
+ * other layouts share through their own volume test (Kay-Kajiya's
+ * plane-set nodes, accel/slabs_kay_kajiya.c).
  *
  * Memory layout:
  *   nodes[nnodes]  bvh_node, 32 bytes: box (24), index (4), count (4).
