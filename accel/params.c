@@ -18,6 +18,7 @@ void params_defaults(accel_params *p, const accel_param *table)
     memset(p, 0, sizeof *p);
     p->table = table;
     p->threads = 1;
+    p->seed = 1; /* --seed's default */
     for (int i = 0; table && table[i].name && i < ACCEL_PARAMS_MAX; i++) {
         snprintf(p->values[i], sizeof p->values[i], "%s", table[i].default_value);
         p->count = i + 1;

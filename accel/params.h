@@ -10,6 +10,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -27,7 +28,8 @@ typedef struct accel_params {
     const accel_param *table;
     int count;
     char values[ACCEL_PARAMS_MAX][64];
-    int threads; /* set by the harness: the threads a builder may use (not a table entry) */
+    int threads;   /* set by the harness: the threads a builder may use (not a table entry) */
+    uint64_t seed; /* set by the harness: --seed (default 1), for builders that draw random numbers (not a table entry) */
 } accel_params;
 
 /* Fill values with the table's defaults. */

@@ -12,12 +12,24 @@ static const char *const columns_head[] = {
     "scene", "prims", "accel", "params", "workload", "rays", "threads", "seed", "rayset_hash",
     "build_ms", "trace_ms", "trace_ms_min", "trace_ms_max", "mrays_per_s", "ratio_vs_embree", "ratio_min",
     "ratio_max", "embree_ms", "mem_bytes", "bytes_per_prim", "tests_per_ray", "prim_hits_per_ray", "box_tests_per_ray",
-    "steps_per_ray", "empty_leaves_per_ray", "mailbox_hits_per_ray", "agree", "mismatch_real",
+    "steps_per_ray", "empty_leaves_per_ray", "mailbox_hits_per_ray", "predicted_tests_per_ray",
+    "predicted_box_tests_per_ray", "agree", "mismatch_real",
     "mismatch_edge", "mismatch_tol", "mismatch_refwrong", "mismatch_origin", "mismatch_unjudged", "illposed_rays",
     "judge_ms", "serial", "res", "spp", "repeat", "passes", "timed_path", NULL,
 };
+/* Statistics that have columns of their own (in columns_head, beside the
+ * measured counters they predict) instead of stat_ ones. */
+static const char *const columns_from_stats[] = {"predicted_tests_per_ray", "predicted_box_tests_per_ray", NULL};
+
+static bool own_column(const char *stat)
+{
+    for (int i = 0; columns_from_stats[i]; i++)
+        if (!strcmp(columns_from_stats[i], stat)) return true;
+    return false;
+}
+
 /* run_id and cell_key sit before the provenance columns, after every
- * column a script cuts by position (rayset_hash is the 9th, agree the 27th):
+ * column a script cuts by position (rayset_hash is the 9th, agree the 29th):
  * a cell key holds commas, so it is quoted. */
 static const char *const columns_tail[] = {"run_id", "cell_key", "git_rev", "machine", "cpu", "date", NULL};
 
@@ -34,7 +46,8 @@ void csv_header(char *buf, size_t len)
     size_t n = 0;
     buf[0] = 0;
     for (int i = 0; columns_head[i]; i++) n = append_column(buf, len, n, "", columns_head[i]);
-    for (int i = 0; accel_stat_names[i]; i++) n = append_column(buf, len, n, "stat_", accel_stat_names[i]);
+    for (int i = 0; accel_stat_names[i]; i++)
+        if (!own_column(accel_stat_names[i])) n = append_column(buf, len, n, "stat_", accel_stat_names[i]);
     for (int i = 0; columns_tail[i]; i++) n = append_column(buf, len, n, "", columns_tail[i]);
 }
 
@@ -42,7 +55,7 @@ int csv_columns(void)
 {
     int n = 0;
     for (int i = 0; columns_head[i]; i++) n++;
-    for (int i = 0; accel_stat_names[i]; i++) n++;
+    for (int i = 0; accel_stat_names[i]; i++) n += !own_column(accel_stat_names[i]);
     for (int i = 0; columns_tail[i]; i++) n++;
     return n;
 }
@@ -52,8 +65,11 @@ int csv_column_index(const char *name)
     int n = 0;
     for (int i = 0; columns_head[i]; i++, n++)
         if (!strcmp(columns_head[i], name)) return n;
-    for (int i = 0; accel_stat_names[i]; i++, n++)
+    for (int i = 0; accel_stat_names[i]; i++) {
+        if (own_column(accel_stat_names[i])) continue;
         if (!strncmp(name, "stat_", 5) && !strcmp(accel_stat_names[i], name + 5)) return n;
+        n++;
+    }
     for (int i = 0; columns_tail[i]; i++, n++)
         if (!strcmp(columns_tail[i], name)) return n;
     return -1;
@@ -88,18 +104,23 @@ static void put_per_ray(FILE *f, const csv_row *r, uint64_t total)
     if (r->has_counters && !r->no_rays && r->rays) fprintf(f, "%.6g", (double)total / (double)r->rays);
 }
 
-/* One field per name of accel_stat_names[], empty where the accelerator
- * reports no such statistic. */
+/* The field of statistic `name`: its value, or empty where the
+ * accelerator reports no such statistic. */
+static void put_stat(FILE *f, const csv_row *r, const char *name)
+{
+    fputc(',', f);
+    for (int k = 0; k < r->nstats && !r->no_rays; k++)
+        if (strcmp(r->stats[k].name, name) == 0) {
+            fprintf(f, "%.6g", r->stats[k].value);
+            return;
+        }
+}
+
+/* One field per name of accel_stat_names[] without a column of its own. */
 static void put_stats(FILE *f, const csv_row *r)
 {
-    for (int i = 0; accel_stat_names[i]; i++) {
-        fputc(',', f);
-        for (int k = 0; k < r->nstats && !r->no_rays; k++)
-            if (strcmp(r->stats[k].name, accel_stat_names[i]) == 0) {
-                fprintf(f, "%.6g", r->stats[k].value);
-                break;
-            }
-    }
+    for (int i = 0; accel_stat_names[i]; i++)
+        if (!own_column(accel_stat_names[i])) put_stat(f, r, accel_stat_names[i]);
 }
 
 /* A count, or empty when zero means "none" (image size, samples, passes). */
@@ -136,6 +157,7 @@ static void put_row(FILE *f, const csv_row *r)
     put_per_ray(f, r, r->counters.steps);
     put_per_ray(f, r, r->counters.empty_leaves);
     put_per_ray(f, r, r->counters.mailbox_hits);
+    for (int i = 0; columns_from_stats[i]; i++) put_stat(f, r, columns_from_stats[i]);
     fprintf(f, ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64, r->agree, r->mismatch_real,
             r->mismatch_edge, r->mismatch_tol, r->mismatch_refwrong);
     fprintf(f, ",%" PRIu64 ",%" PRIu64 ",%" PRIu32 ",%.1f", r->mismatch_origin, r->mismatch_unjudged, r->illposed_rays,

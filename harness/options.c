@@ -69,7 +69,7 @@ void options_usage(FILE *out, const char *cmd)
             "  --spp N                 samples per pixel (default 1)\n"
             "  --corners               rays through pixel corners, (W+1)x(H+1) (SPD's rule)\n"
             "  --depth N               reflection generations (default 3)\n"
-            "  --seed S                random seed of the ray sets (default 1)\n"
+            "  --seed S                random seed of the ray sets and of seeded builds (bvh-gs's shuffles) (default 1)\n"
             "  --threads N             tracing threads (default: all cores)\n"
             "  --rays FILE             replay a saved ray set instead of making workloads\n"
             "  --save-rays PATH        save the ray sets (a file for one set, else a folder)\n"
@@ -357,6 +357,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         o->accels[i].ops = ops;
         params_defaults(&o->accels[i].params, ops->params);
         o->accels[i].params.threads = o->threads;
+        o->accels[i].params.seed = o->wl.seed; /* seeded builders (bvh-gs's shuffles) follow the ray sets' seed */
     }
     o->naccels = na;
     for (int k = 0; k < nparams; k++) {

@@ -64,4 +64,15 @@ static inline void rnd_soup(prims_t *p, int n, float spread)
     }
 }
 
+/* The reference answer of a traversal test: every primitive, closest hit
+ * into *hit or (shadow) whether any occludes. */
+static inline bool exhaustive(const prims_t *p, const ray_t *ray, hit_t *hit, bool shadow)
+{
+    for (uint32_t id = 0; id < p->count; id++) {
+        if (shadow && prim_occluded_fast(p, id, ray)) return true;
+        if (!shadow) prim_intersect_fast(p, id, ray, hit);
+    }
+    return !shadow && hit->prim != HIT_NONE;
+}
+
 #endif

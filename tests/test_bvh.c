@@ -55,16 +55,6 @@ static bvh_t build(const builder_t *bd, const prims_t *p, uint32_t max_leaf)
     return b;
 }
 
-/* The reference: every primitive. */
-static bool exhaustive(const prims_t *p, const ray_t *ray, hit_t *hit, bool shadow)
-{
-    for (uint32_t id = 0; id < p->count; id++) {
-        if (shadow && prim_occluded_fast(p, id, ray)) return true;
-        if (!shadow) prim_intersect_fast(p, id, ray, hit);
-    }
-    return !shadow && hit->prim != HIT_NONE;
-}
-
 static ray_t random_ray(box3 box, int kind)
 {
     vec3 c = box_center(box), e = box_extent(box);

@@ -54,7 +54,7 @@ expect 2 "not an accelbench ray file" -- "$AB" verify --scenes spd:balls:1 --ray
 rc=$?
 [ $rc = 0 ] && ok || { bad "run exit $rc"; tail "$T/run.log" >&2; }
 csv="$T/run/matrix.csv"
-header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,ratio_min,ratio_max,embree_ms,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,mismatch_origin,mismatch_unjudged,illposed_rays,judge_ms,serial,res,spp,repeat,passes,timed_path,stat_nodes,stat_leaves,stat_empty_leaves,stat_max_depth,stat_avg_leaf_prims,stat_refs_per_prim,stat_res_x,stat_res_y,stat_res_z,stat_lazy_build_ms,stat_hash_load,stat_hash_probes_avg,stat_hash_probes_max,stat_hash_probes_miss_avg,run_id,cell_key,git_rev,machine,cpu,date"
+header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,ratio_min,ratio_max,embree_ms,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,predicted_tests_per_ray,predicted_box_tests_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,mismatch_origin,mismatch_unjudged,illposed_rays,judge_ms,serial,res,spp,repeat,passes,timed_path,stat_nodes,stat_leaves,stat_empty_leaves,stat_max_depth,stat_avg_leaf_prims,stat_refs_per_prim,stat_res_x,stat_res_y,stat_res_z,stat_lazy_build_ms,stat_hash_load,stat_hash_probes_avg,stat_hash_probes_max,stat_hash_probes_miss_avg,stat_avg_children,run_id,cell_key,git_rev,machine,cpu,date"
 [ "$(head -1 "$csv")" = "$header" ] && ok || bad "CSV header: $(head -1 "$csv")"
 rows=$(($(wc -l < "$csv") - 1))
 [ "$rows" = 20 ] && ok || bad "CSV has $rows rows, want 2 scenes x 2 accels x 5 workloads = 20"
@@ -133,8 +133,18 @@ expect 0 "saved" -- "$AB" verify --scenes spd:balls:2 --workloads diffuse --res 
 "$AB" run --scenes spd:balls:2 --accels exhaustive --workloads diffuse --res 20x20 --repeat 1 --out "$T/direct" --no-plots --quiet 2>/dev/null
 h1=$(cut -d, -f9 "$T/replay/matrix.csv" | tail -1); h2=$(cut -d, -f9 "$T/direct/matrix.csv" | tail -1)
 [ -n "$h1" ] && [ "$h1" = "$h2" ] && ok || bad "replayed hash $h1 != direct hash $h2"
-a1=$(cut -d, -f27-28 "$T/replay/matrix.csv" | tail -1); a2=$(cut -d, -f27-28 "$T/direct/matrix.csv" | tail -1)
+a1=$(cut -d, -f29-30 "$T/replay/matrix.csv" | tail -1); a2=$(cut -d, -f29-30 "$T/direct/matrix.csv" | tail -1)
 [ "$a1" = "$a2" ] && ok || bad "replayed agreement $a1 != direct $a2"
+
+# --- --seed reaches seeded builds: bvh-gs's shuffled tree, and so its eq. (3) prediction, follows it
+gs_predicted() {
+    "$AB" run --scenes spd:balls:2 --accels bvh-gs --workloads primary --res 8x8 --repeat 1 --seed "$1" --out "$T/gs$2" \
+        --no-plots --quiet > /dev/null 2>&1
+    python3 -c "import csv, sys; r = list(csv.DictReader(open(sys.argv[1])))[-1]; print(r['predicted_tests_per_ray'], r['predicted_box_tests_per_ray'])" "$T/gs$2/matrix.csv"
+}
+p1=$(gs_predicted 1 a); p1b=$(gs_predicted 1 b); p2=$(gs_predicted 2 c)
+[ -n "$p1" ] && [ "$p1" = "$p1b" ] && [ "$p1" != "$p2" ] && ok || bad "bvh-gs predictions by seed: 1: '$p1', 1 again: '$p1b', 2: '$p2'"
+expect 2 "needs order=shuffle" -- "$AB" verify --scenes spd:balls:1 --accels bvh-gs --param bvh-gs.order=given --param bvh-gs.shuffles=2
 
 # --- every mesh format the issue names loads through assimp (OBJ and OFF are above; glTF in test_scenes)
 printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > "$T/tri.stl"

@@ -6,7 +6,9 @@
  *  - run ids: one per process, time-sortable;
  *  - rows (harness/csv.h): the header's run_id and cell_key columns, a row
  *    split back into exactly the header's fields (quoted commas, quotes and
- *    line breaks), a row of no rays with its measured columns empty;
+ *    line breaks), a row of no rays with its measured columns empty, the
+ *    predicted_*_per_ray columns beside the measured counters filled from
+ *    the statistics of those names (empty without them, no stat_ twin);
  *  - the store (harness/resume.h): a new file gets its header, rows are
  *    found by key after reopening, a torn last row (no line break; too few
  *    fields) is dropped, a cut header is rewritten, a malformed earlier row
@@ -112,9 +114,11 @@ static csv_row sample_row(const char *scene, const char *workload, const char *k
         .machine = "host", .cpu = "cpu, with a comma", .date = "2026-01-01T00:00:00Z",
     };
     r.counters.prim_tests = 250;
-    r.nstats = 1;
+    r.nstats = 2;
     r.stats[0].name = "nodes";
     r.stats[0].value = 42;
+    r.stats[1].name = "predicted_box_tests_per_ray";
+    r.stats[1].value = 7.25;
     snprintf(r.run_id, sizeof r.run_id, "%s", run_id_current());
     snprintf(r.cell_key, sizeof r.cell_key, "%s", key);
     return r;
@@ -143,7 +147,11 @@ static void test_rows(void)
     int commas = 0;
     for (const char *p = h; *p; p++) commas += *p == ',';
     CHECK(csv_columns() == commas + 1);
-    CHECK(csv_column_index("scene") == 0 && csv_column_index("rayset_hash") == 8 && csv_column_index("agree") == 26);
+    CHECK(csv_column_index("scene") == 0 && csv_column_index("rayset_hash") == 8 && csv_column_index("agree") == 28);
+    /* eq. (3)'s predictions beside the measured counters, and not again as stat_ columns. */
+    CHECK(strstr(h, ",mailbox_hits_per_ray,predicted_tests_per_ray,predicted_box_tests_per_ray,agree,") != NULL);
+    CHECK(csv_column_index("stat_predicted_tests_per_ray") == -1 && !strstr(h, "stat_predicted"));
+    CHECK(csv_column_index("stat_avg_children") > csv_column_index("stat_nodes"));
     CHECK(csv_column_index("stat_nodes") > csv_column_index("timed_path"));
     CHECK(csv_column_index("date") == csv_columns() - 1 && csv_column_index("nope") == -1);
 
@@ -168,6 +176,12 @@ static void test_rows(void)
     CHECK(strcmp(f, "2.5") == 0);
     row_field(text, len, "res", f, sizeof f);
     CHECK(strcmp(f, "10x10") == 0);
+    row_field(text, len, "predicted_box_tests_per_ray", f, sizeof f);
+    CHECK_MSG(strcmp(f, "7.25") == 0, "%s", f);
+    row_field(text, len, "predicted_tests_per_ray", f, sizeof f);
+    CHECK_MSG(f[0] == 0, "'%s' with no such statistic", f); /* the accelerator reported none */
+    row_field(text, len, "stat_nodes", f, sizeof f);
+    CHECK(strcmp(f, "42") == 0);
     /* Cut anywhere short of its line break, the record is torn. */
     for (size_t cut = 1; cut < len; cut += 7) {
         csv_split_record(text, cut, &nf, &complete, NULL, 0);
@@ -186,7 +200,7 @@ static void test_rows(void)
     CHECK(nf == csv_columns());
     const char *empty[] = {"build_ms", "trace_ms", "trace_ms_min", "trace_ms_max", "mrays_per_s", "ratio_vs_embree",
                            "ratio_min", "ratio_max", "embree_ms", "mem_bytes", "bytes_per_prim", "tests_per_ray",
-                           "passes", "timed_path", "stat_nodes", "res", "spp"};
+                           "passes", "timed_path", "stat_nodes", "predicted_box_tests_per_ray", "res", "spp"};
     for (size_t i = 0; i < sizeof empty / sizeof empty[0]; i++) {
         row_field(text, len, empty[i], f, sizeof f);
         CHECK_MSG(f[0] == 0, "%s is '%s' in a row of no rays", empty[i], f);

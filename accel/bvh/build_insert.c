@@ -29,17 +29,8 @@
  * of the order): id order by default, or a shuffle by cfg->insert_seed. Each insertion costs the
  * depth of the path, O(n log n) for reasonable orders, O(n^2) at worst. */
 #include <stdlib.h>
+#include "../common/shuffle.h"
 #include "build.h"
-
-/* splitmix64 (Steele, Lea, Flood, "Fast Splittable Pseudorandom Number
- * Generators", OOPSLA 2014): a deterministic shuffle for any seed. */
-static uint64_t next_random(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
 
 static inline double area_with(box3 a, box3 b) { return box_area(box_union(a, b)); }
 
@@ -71,15 +62,7 @@ int bvh_build_insert(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_
     if (!n) return 0;
     bvh_config c = bvh_config_or_defaults(cfg);
     for (uint32_t i = 0; i < n; i++) b->refs[i] = i;
-    if (c.insert_seed) {
-        uint64_t s = c.insert_seed;
-        for (uint32_t i = n - 1; i > 0; i--) { /* Fisher-Yates */
-            uint32_t j = (uint32_t)(next_random(&s) % ((uint64_t)i + 1));
-            uint32_t t = b->refs[i];
-            b->refs[i] = b->refs[j];
-            b->refs[j] = t;
-        }
-    }
+    if (c.insert_seed) shuffle_ids(b->refs, n, c.insert_seed);
     b->nrefs = n;
     b->nodes[0] = (bvh_node){boxes[b->refs[0]], 0, 1};
     b->nnodes = 1;
