@@ -38,11 +38,11 @@
  *                    D x n of them (Havran and Sixta, RTN 12(1) 1999;
  *                    grid_cubic_resolution()). grid's default is cubic:20
  *                    because a benchmark said so (scripts/bench_subdivision.sh,
- *                    results/subdivision-20261202-054223: faster than res=auto
- *                    in 52 of 57 cells, 2.4x in geometric mean, up to 40x on
+ *                    results/subdivision-20261202-062417: faster than res=auto
+ *                    in 56 of 57 cells, 2.7x in geometric mean, up to 30x on
  *                    the SPD scenes whose flat boxes Woo's rule cuts into
- *                    one layer; res=auto up to 1.3x faster on primary rays of
- *                    four closed meshes), at ~12x the grid's memory;
+ *                    few layers; res=auto 5% faster on the motorbike's primary
+ *                    rays), at ~12x the grid's memory;
  *                    grid-raybox keeps Woo's rule, whose implementation it
  *                    reproduces.
  *   density=1.0      multiplies m (auto only).
