@@ -77,7 +77,7 @@ void havran_usage(FILE *out)
             "            the uniform grid at D = 1 and D = 20 voxels per object, octrees O84-C and O84-A at maximum\n"
             "            depths 4-7, and our BSPs (midpoint sequential and recursive, SAH), as ratios between\n"
             "            techniques on each scene next to theirs. Their figures: data/havran_figures.csv.\n"
-            "            Timed traces run on --threads. About 15 minutes on one core.\n");
+            "            Timed traces run on --threads. About 20 minutes on one core.\n");
 }
 
 /* ------------------------------------------------------------ their figures */
