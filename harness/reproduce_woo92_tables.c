@@ -16,6 +16,9 @@ static double boxes(const meas *m) { return rp_boxes(m); }
 /* Percent of a saved by b (positive: b is faster / smaller). */
 static double saved(double a, double b) { return a > 0 ? 100.0 * (a - b) / a : 0.0; }
 static double noise2(const meas *a, const meas *b) { return rp_noise2(a, b); }
+/* Percent of a's time saved by b, through their Embree-paired ratios (rp_relative), so a machine that
+ * slows between the two measurements does not tilt it. */
+static double saved_paired(const meas *a, const meas *b) { return 100.0 * (1.0 - rp_relative(b, a)); }
 
 static double spread_of(const double *v, int n)
 {
@@ -120,6 +123,9 @@ static void print_header(woo_run *r, FILE *f)
                         "per ray). Timed path: %s.",
                   r->k.o.repeat, r->k.o.repeat == 1 ? "" : "s", r->k.o.repeat == 1 ? " (1 repeat: no noise estimate)" : "",
                   paths[0] ? paths : "none");
+    report_bullet(f, 0, "ratios: every comparison of two of our measurements (%% saved, raw / ray box, spreads, the "
+                        "fastest grid) goes through their Embree-paired ratios, (A / Embree) / (B / Embree), so a machine "
+                        "that slows down between two measurements does not tilt it; the ms columns are raw medians.");
     report_bullet(f, 0, "noise: \"within noise\" in the findings means within the larger min-max spread of the two "
                         "measurements' repeats, and at least 1%%. Run-to-run variation (another process, a shared VM) can "
                         "be larger: read differences of a few percent as ties.");
@@ -161,7 +167,7 @@ static void table1(woo_run *r, FILE *f)
     double rb[4], raw[4], ratio[4], woo_ratio[4], cut = 0, box = 0;
     for (int i = 0; i < 4; i++) {
         const meas *a = r->t1_raybox[i], *b = r->t1_raw[i];
-        rb[i] = a->ms, raw[i] = b->ms, ratio[i] = b->ms / a->ms;
+        rb[i] = rp_vs_embree(a), raw[i] = rp_vs_embree(b), ratio[i] = rp_relative(b, a);
         woo_ratio[i] = w->t1_raw[i] / w->t1_raybox[i];
         cut += saved(tests(b), tests(a)) / 4, box += boxes(a) / 4;
         report_row(f, "%u|%s|%dx%d|%.1f|%.2f|%.2f|%.1f|%.2f|%.2f|%llu / %llu", a->rows[0].prims, a->res_str, c->t1_w,
@@ -224,7 +230,7 @@ static void table2(woo_run *r, FILE *f)
         const meas *o = r->t2_old[i], *n = r->t2_new[i];
         report_row(f, "%s|%s|%u|%s|%.1f%%|%.1f|%.1f|%.1f%%|%llu|%llu / %llu", woo92_scenes[i + 1].image, r->k.shown[i + 1],
                    o->rows[0].prims, o->res_str, saved((double)o->c.prim_tests, (double)n->c.prim_tests), o->ms, n->ms,
-                   saved(o->ms, n->ms), (unsigned long long)o->rays, (unsigned long long)o->mm[MM_REAL],
+                   saved_paired(o, n), (unsigned long long)o->rays, (unsigned long long)o->mm[MM_REAL],
                    (unsigned long long)n->mm[MM_REAL]);
     }
     report_end(f);
@@ -243,7 +249,7 @@ static void table2(woo_run *r, FILE *f)
     double lo = 1e9, hi = -1e9;
     for (int i = 0; i < 3; i++) {
         const meas *o = r->t2_old[i], *n = r->t2_new[i];
-        double s = round(10.0 * saved(o->ms, n->ms)) / 10.0, nz = noise2(o, n), is = saved((double)o->c.prim_tests, (double)n->c.prim_tests);
+        double s = round(10.0 * saved_paired(o, n)) / 10.0, nz = noise2(o, n), is = saved((double)o->c.prim_tests, (double)n->c.prim_tests);
         lo = fmin(lo, s), hi = fmax(hi, s);
         char where[64];
         if (s < 0) snprintf(where, sizeof where, "new is SLOWER than old, unlike Woo");
@@ -266,7 +272,7 @@ static void table2(woo_run *r, FILE *f)
         char e[48];
         size_t k = strlen(ours);
         snprintf(ours + k, sizeof ours - k, "%s %s: %s, %.1f%% of the intersection tests saved", i ? ";" : "",
-                 woo92_scenes[i + 1].image, effect(saved(m->ms, n->ms), e, sizeof e),
+                 woo92_scenes[i + 1].image, effect(saved_paired(m, n), e, sizeof e),
                  saved((double)m->c.prim_tests, (double)n->c.prim_tests));
     }
     char j2[96], j3[96];
@@ -291,7 +297,7 @@ static void table3(woo_run *r, FILE *f)
     for (int i = 0; i < 3; i++) {
         const meas *o = r->t3_old[i], *t = r->t3_tri[i], *n = r->t3_new[i];
         int side = (int)ceil(sqrt((double)w->spp[i]));
-        ti[i] = saved(o->ms, t->ms), ni[i] = saved(o->ms, n->ms);
+        ti[i] = saved_paired(o, t), ni[i] = saved_paired(o, n);
         if (fabs(ti[i]) > noise2(o, t)) tri_noise = false;
         report_row(f, "%dx%d|%.1f|%.1f|%.1f%%|%.1f|%.1f%%|%llu|%llu / %llu / %llu", side, side, o->ms, t->ms, ti[i], n->ms,
                    ni[i], (unsigned long long)o->rays, (unsigned long long)o->mm[MM_REAL],
@@ -329,7 +335,7 @@ static void table4(woo_run *r, FILE *f)
     double t[4], mem[4];
     for (int i = 0; i < 4; i++) {
         const meas *m = r->t4[i];
-        t[i] = m->ms, mem[i] = (double)m->mem;
+        t[i] = rp_vs_embree(m), mem[i] = (double)m->mem;
         report_row(f, "%s%s|%.1f|%llu|%.2f|%.2f|%llu", m->res_str, i == 0 ? " (auto)" : "", m->ms, (unsigned long long)m->mem,
                    tests(m), boxes(m), (unsigned long long)m->mm[MM_REAL]);
     }
@@ -370,11 +376,11 @@ static void ablation_image(woo_run *r, FILE *f, int si, double *delta)
     report_table(f, "Step|Time ms:|tests/ray:|box tests/ray:|% vs old:|% vs prev:|real mismatches:");
     for (int k = 0; k < ABL_N; k++) {
         const meas *m = r->abl[si][k], *o = r->abl[si][0], *p = r->abl[si][k ? k - 1 : 0];
-        delta[k] = k ? saved(p->ms, m->ms) : 0.0;
+        delta[k] = k ? saved_paired(p, m) : 0.0;
         char dp[32] = "";
         if (k) snprintf(dp, sizeof dp, "%.1f%%", delta[k]);
         report_row(f, "%s%s|%.1f|%.2f|%.2f|%.1f%%|%s|%llu", woo92_abl_steps[k].name, r->abl_is_new[k] ? " (= new)" : "",
-                   m->ms, tests(m), boxes(m), saved(o->ms, m->ms), dp, (unsigned long long)m->mm[MM_REAL]);
+                   m->ms, tests(m), boxes(m), saved_paired(o, m), dp, (unsigned long long)m->mm[MM_REAL]);
     }
     report_end(f);
     int best = 1, worst = 1;
@@ -397,7 +403,7 @@ static void ablation_image(woo_run *r, FILE *f, int si, double *delta)
     report_finding(f, "%s: old -> new %s (Woo: saves %.1f%%); the largest single gain is %s (%s), the largest loss %s (%s); "
                       "switches that make it slower than the row above beyond noise: %s. rayid=twopass (Woo removed it as "
                       "no help): %s; eyeorigin: %s.",
-                   woo92_scenes[si + 1].image, effect(saved(r->abl[si][0]->ms, r->abl[si][inew]->ms), e1, sizeof e1),
+                   woo92_scenes[si + 1].image, effect(saved_paired(r->abl[si][0], r->abl[si][inew]), e1, sizeof e1),
                    saved(w->t2_old[si], w->t2_new[si]), woo92_abl_steps[best].name, effect(delta[best], e2, sizeof e2),
                    delta[worst] < 0 ? woo92_abl_steps[worst].name : "none",
                    delta[worst] < 0 ? effect(delta[worst], e3, sizeof e3) : "no step costs time", slower[0] ? slower : "none",
