@@ -10,7 +10,12 @@ or accel[params that differ]) over every scene of the file:
     geometric-mean ratio to Embree, Mrays/s, tests, box tests and steps per
     ray, build ms and bytes per primitive, and the number of (scene,
     workload) cells it wins;
-  - the count of real mismatches (which must be 0).
+  - the count of real mismatches (which must be 0);
+  - with --predicted, for rows that carry a cost model's prediction
+    (bvh-gs: eq. (3) of the survey, predicted_tests_per_ray and
+    predicted_box_tests_per_ray), the predicted and measured tests and box
+    tests per ray side by side, per workload, with measured/predicted and
+    how many cells fall within 25 % of the prediction.
 Embree's own rows (ratio 1 by definition) are left out. Every number comes
 from the CSV; a cell measured twice counts once (its last row, as plot.py).
 Exit status 2 for a missing file or missing columns.
@@ -39,10 +44,42 @@ def fmt(v, digits=2):
     return "" if v is None else f"{v:.{digits}f}"
 
 
+def predicted_tables(rows, labels, scenes, workloads):
+    """Predicted against measured tests per ray, per workload (rows with a prediction only)."""
+    if rows and "predicted_tests_per_ray" not in rows[0]:
+        common.fail("the CSV has no predicted_tests_per_ray column (written by accelbench since bvh-gs)")
+    rows = [r for r in rows if num(r.get("predicted_tests_per_ray", "")) is not None]
+    out = ["## Cost model: predicted against measured (measured / predicted)\n",
+           "The prediction is eq. (3) of the survey with surface-area conditional probabilities, made for rays "
+           "that start outside the root volume and cross it (Goldsmith and Salmon's primary rays): a ratio "
+           "near 1 is where it holds.\n"]
+    if not rows:
+        return out + ["No row carries a prediction.\n"]
+    for w in workloads:
+        ws = [r for r in rows if r["workload"] == w]
+        if not ws:
+            continue
+        out.append(f"### {w}\n")
+        out.append("| scene | configuration | tests/ray predicted | measured | ratio | box tests/ray predicted | measured | ratio |")
+        out.append("|---|---|---:|---:|---:|---:|---:|---:|")
+        within = 0
+        for r in sorted(ws, key=lambda r: (scenes.index(r["scene"]), labels[common.config_key(r)])):
+            pt, mt = num(r["predicted_tests_per_ray"]), num(r["tests_per_ray"])
+            pb, mb = num(r["predicted_box_tests_per_ray"]), num(r["box_tests_per_ray"])
+            rt = mt / pt if pt and mt is not None else None
+            rb = mb / pb if pb and mb is not None else None
+            within += rt is not None and 0.75 <= rt <= 1.25
+            out.append(f"| {r['scene']} | {labels[common.config_key(r)]} | {fmt(pt, 1)} | {fmt(mt, 1)} | {fmt(rt)} | "
+                       f"{fmt(pb, 1)} | {fmt(mb, 1)} | {fmt(rb)} |")
+        out.append(f"\nTests per ray within 25 % of the prediction in {within} of {len(ws)} cells.\n")
+    return out
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("csv", metavar="CSV", help="matrix.csv written by accelbench run")
     p.add_argument("--out", metavar="FILE", help="write the Markdown here (default: stdout)")
+    p.add_argument("--predicted", action="store_true", help="add the cost model's predictions against the measured counters")
     args = p.parse_args(argv)
     common.PROG = PROG
     rows = common.dedup_rows(common.load_rows(args.csv, REQUIRED), args.csv)
@@ -87,6 +124,8 @@ def main(argv=None):
                    f"{fmt(med('mrays_per_s'), 3)} | {fmt(med('tests_per_ray'), 1)} | {fmt(med('box_tests_per_ray'), 1)} | "
                    f"{fmt(med('steps_per_ray'), 1)} | {fmt(med('build_ms'), 1)} | {fmt(med('bytes_per_prim'), 1)} | {real} |")
     out.append("")
+    if args.predicted:
+        out.extend(predicted_tables(rows, labels, scenes, workloads))
     text = "\n".join(out) + "\n"
     if args.out:
         with open(args.out, "w") as f:
