@@ -48,8 +48,8 @@ void options_usage(FILE *out, const char *cmd)
     if (strcmp(cmd, "render") == 0) {
         fprintf(out,
                 "usage: accelbench render --scene S --accel A --out FILE.png [options]\n"
-                "  Whitted ray tracing (point-light shadows, mirror reflection to depth 3)\n"
-                "  through any accelerator that answers closest-hit queries.\n"
+                "  Whitted ray tracing (point-light shadows, mirror reflection and refraction to depth 3,\n"
+                "  smooth `pp` normals) through any accelerator that answers closest-hit queries.\n"
                 "  --heatmap tests|steps   write a per-pixel cost image of the primary rays instead\n"
                 "  --res WxH               image size (default: the scene's view, e.g. 512x512)\n"
                 "  --spp N                 samples per pixel (default 1)\n"
@@ -63,12 +63,14 @@ void options_usage(FILE *out, const char *cmd)
             "  LIST is comma-separated; see `accelbench list` for the names.\n"
             "  --scenes LIST           scene names: spd:balls:3, spd:gears:2:t, bunny, set:medium, a file ...\n"
             "  --accels LIST           accelerators (default: all; verify: all but embree)\n"
-            "  --workloads LIST        primary,shadow,reflection,diffuse,random (default: all)\n"
+            "  --workloads LIST        primary,shadow,reflection,diffuse,random, and whitted: the SPD protocol's ray\n"
+            "                          tree as whitted:eye,whitted:reflected,whitted:refracted,whitted:shadow\n"
+            "                          (default: the five before whitted)\n"
             "  --param ACCEL.KEY=VALUE set an accelerator parameter (repeatable)\n"
             "  --res WxH               primary image size (default 128x128)\n"
             "  --spp N                 samples per pixel (default 1)\n"
             "  --corners               rays through pixel corners, (W+1)x(H+1) (SPD's rule)\n"
-            "  --depth N               reflection generations (default 3)\n"
+            "  --depth N               reflection generations (default 3); whitted's tree depth, the eye ray 1 (default 5)\n"
             "  --seed S                random seed of the ray sets and of seeded builds (bvh-gs's shuffles) (default 1)\n"
             "  --threads N             tracing threads (default: all cores)\n"
             "  --rays FILE             replay a saved ray set instead of making workloads\n"
@@ -190,7 +192,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     o->ray_index = -1;
     o->plots = true;
     o->judge_seconds = VERIFY_JUDGE_SECONDS;
-    o->wl = (workload_opts){.width = 128, .height = 128, .spp = 1, .depth = 3, .seed = 1};
+    o->wl = (workload_opts){.width = 128, .height = 128, .spp = 1, .depth = 0 /* each workload's own */, .seed = 1};
     o->argv_line = join_args(argc, argv);
     /* Default accelerators: all of them; verify leaves out the reference itself. */
     static char all_accels[1024];
@@ -404,19 +406,31 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
 
     /* Workloads. */
     if (!workloads_arg) {
-        for (int i = 0; workload_table[i].name; i++) o->workloads[o->nworkloads++] = &workload_table[i];
+        /* The five classic workloads; whitted is asked for by name (its SPD corner grid and ray tree are a
+         * protocol of their own, and its parts are empty on scenes without glass or mirrors). */
+        for (int i = 0; workload_table[i].name; i++)
+            if (strncmp(workload_table[i].name, "whitted:", 8)) o->workloads[o->nworkloads++] = &workload_table[i];
     } else {
         const char *wn[OPT_LIST_MAX];
         char *wdup = owned_copy(o, workloads_arg);
         int nw = split(wdup, wn, OPT_LIST_MAX, "workloads");
         if (nw < 0) return 2;
         for (int i = 0; i < nw; i++) {
-            const workload_def *w = workload_find(wn[i]);
-            if (!w) {
+            /* "whitted" names its four parts, one ray set per ray type. */
+            const workload_def *parts[WHITTED_PARTS];
+            int np = 0;
+            if (!strcmp(wn[i], "whitted"))
+                for (int k = 0; k < WHITTED_PARTS; k++) parts[np++] = workload_find(whitted_part_name[k]);
+            else if ((parts[0] = workload_find(wn[i]))) np = 1;
+            if (!np) {
                 fprintf(stderr, "accelbench: unknown workload '%s' (see: accelbench list workloads)\n", wn[i]);
                 return 2;
             }
-            o->workloads[o->nworkloads++] = w;
+            for (int k = 0; k < np; k++) { /* a workload named twice is one set of cells */
+                bool listed = false;
+                for (int j = 0; j < o->nworkloads; j++) listed |= o->workloads[j] == parts[k];
+                if (!listed) o->workloads[o->nworkloads++] = parts[k];
+            }
         }
     }
     if (o->rays_file && o->nscenes != 1) {
@@ -467,8 +481,10 @@ void options_replay_command(const options *o, const char *scene, const char *wor
         append_word(buf, len, "--rays");
         append_word(buf, len, o->rays_file);
     } else {
-        snprintf(word, sizeof word, "--workloads %s --res %dx%d --spp %d --seed %llu --depth %d%s", workload, o->wl.width,
-                 o->wl.height, o->wl.spp, (unsigned long long)o->wl.seed, o->wl.depth, o->wl.corners ? " --corners" : "");
+        char depth[32] = ""; /* 0: each workload's default, which --depth cannot say */
+        if (o->wl.depth > 0) snprintf(depth, sizeof depth, " --depth %d", o->wl.depth);
+        snprintf(word, sizeof word, "--workloads %s --res %dx%d --spp %d --seed %llu%s%s", workload, o->wl.width,
+                 o->wl.height, o->wl.spp, (unsigned long long)o->wl.seed, depth, o->wl.corners ? " --corners" : "");
         size_t used = strlen(buf);
         snprintf(buf + used, len - used, " %s", word);
     }

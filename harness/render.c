@@ -1,9 +1,12 @@
 /* render.c: Whitted shading and cost heat maps (see render.h).
  *
  * Shading: ambient 0.1 plus, per light the surface faces and that an
- * occlusion query says is visible, Lambert kd * colour * cos / sqrt(#lights);
- * plus ks times the mirror-reflected colour, to depth 3. Two-sided: the
- * normal is turned toward the viewer. Every ray goes through the chosen
+ * occlusion query says is visible, Lambert kd * colour * cos / sqrt(#lights)
+ * (cos against the shading normal: `pp` normals interpolated); plus ks
+ * times the mirror-reflected colour and T times the refracted colour, to
+ * depth 3. The secondary rays are the whitted workload's (spawn.h): the
+ * same origins, shadow rule, reflection and refraction. Two-sided: the
+ * normals are turned toward the viewer. Every ray goes through the chosen
  * accelerator, so two correct accelerators give the same picture up to
  * float noise at edges. */
 #include "render.h"
@@ -14,6 +17,7 @@
 #include <string.h>
 #include "image.h"
 #include "resources.h"
+#include "spawn.h"
 #include "trace.h"
 #include "../prims/checked_alloc.h"
 
@@ -32,24 +36,23 @@ static vec3 shade(shader_t *sh, const ray_t *r, int depth)
     const scene_t *s = sh->s;
     hit_t h = hit_none(r);
     if (!sh->a->ops->intersect(sh->a, sh->ctx, r, &h, &sh->c)) return s->background;
-    vec3 org, n;
-    hit_frame(s, r, &h, &org, &n);
-    const material_t *m = &s->materials[s->prim_material ? s->prim_material[h.prim] : 0];
+    spawn_t f = spawn_at(s, r, &h);
+    const material_t *m = f.m;
     vec3 col = v3_scale(m->color, 0.1f);
     for (uint32_t l = 0; l < s->nlights; l++) {
-        vec3 to = v3_sub(s->lights[l], org);
-        float dist = v3_len(to);
-        float cosine = dist > 0.0f ? v3_dot(to, n) / dist : 0.0f;
-        if (cosine <= 0.0f) continue;
-        ray_t sr = {org, 0.0f, v3_scale(to, 1.0f / dist), dist, l, 0};
-        if (sh->a->ops->occluded(sh->a, sh->ctx, &sr, &sh->c)) continue;
+        ray_t sr;
+        if (!spawn_shadow(s, &f, l, &sr)) continue;
+        float cosine = v3_dot(sr.dir, f.ns);
+        if (cosine <= 0.0f || sh->a->ops->occluded(sh->a, sh->ctx, &sr, &sh->c)) continue;
         col = v3_add(col, v3_scale(m->color, m->kd * cosine * sh->light_scale));
     }
-    if (depth < RENDER_DEPTH && m->ks > 0.0f) {
-        vec3 d = v3_sub(r->dir, v3_scale(n, 2.0f * v3_dot(r->dir, n)));
-        ray_t rr = {org, 0.0f, v3_norm(d), INFINITY, RAY_NO_LIGHT, 0};
+    if (depth >= RENDER_DEPTH) return col;
+    if (m->ks > 0.0f) {
+        ray_t rr = spawn_reflect(&f);
         col = v3_add(col, v3_scale(shade(sh, &rr, depth + 1), m->ks));
     }
+    ray_t tr;
+    if (m->t > 0.0f && spawn_refract(&f, &tr)) col = v3_add(col, v3_scale(shade(sh, &tr, depth + 1), m->t));
     return col;
 }
 

@@ -14,6 +14,7 @@ typedef struct {
 static const experiment experiments[] = {
     {"woo92", reproduce_woo92, woo92_usage},
     {"havran", reproduce_havran, havran_usage},
+    {"spd", reproduce_spd, spd_usage},
 };
 #define N_EXPERIMENTS (int)(sizeof experiments / sizeof experiments[0])
 
@@ -42,7 +43,7 @@ int reproduce_main(int argc, char **argv)
     }
     for (int i = 0; i < N_EXPERIMENTS; i++)
         if (!strcmp(exp, experiments[i].name)) return experiments[i].run(argc - 1, argv + 1);
-    fprintf(stderr, "accelbench reproduce: unknown experiment '%s' (known: woo92, havran; see accelbench reproduce --help)\n",
+    fprintf(stderr, "accelbench reproduce: unknown experiment '%s' (known: woo92, havran, spd; see accelbench reproduce --help)\n",
             exp);
     return 2;
 }

@@ -7,6 +7,8 @@
  *           plus a one-switch-at-a-time ablation
  *   havran  reproduce_havran.c: Havran and Sixta's grids (RTN 12(1)) and
  *           Havran's octrees (RTN 12(2)) on the SPD databases, plus BSPs
+ *   spd     reproduce_spd.c: the SPD Readme's testing procedure (the
+ *           whitted workload) and its ray counts and test counts
  *
  *   accelbench reproduce EXPERIMENT [--out DIR] [--threads N] [--repeat N] [--quick] ...
  *
@@ -26,5 +28,7 @@ int reproduce_woo92(int argc, char **argv);
 void woo92_usage(FILE *out);
 int reproduce_havran(int argc, char **argv);
 void havran_usage(FILE *out);
+int reproduce_spd(int argc, char **argv);
+void spd_usage(FILE *out);
 
 #endif

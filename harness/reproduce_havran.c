@@ -172,6 +172,10 @@ int reproduce_havran(int argc, char **argv)
     k->scenes = havran_scenes, k->nscenes = HV_SCENES;
     int rc = rp_parse(k, argc, argv, reproduce_usage);
     if (rc) return rc == 1 ? 0 : rc;
+    if (k->o.accels) {
+        fprintf(stderr, "accelbench reproduce havran: --accels: Havran's tables name their own structures (--accels is for spd)\n");
+        return 2;
+    }
     k->timed_threads = k->o.threads; /* nothing here mutates while tracing */
     if ((rc = rp_select_scenes(k, r->use))) return rc;
     if ((rc = load_figures(&r->hf))) return rc;

@@ -31,6 +31,7 @@ void rp_usage_options(FILE *out)
             "  --quick        small images and 1 repeat: the same tables in seconds (for tests only)\n"
             "  --scenes LIST  only these of the experiment's scenes, comma-separated, by the paper's name or\n"
             "                 ours (havran: balls,spd:tree); woo92's tables need all of its scenes\n"
+            "  --accels LIST  spd only: the accelerators to trace the protocol through (default bvh-gs)\n"
             "  --no-plots     do not call the experiment's plot script at the end\n"
             "  --quiet        no progress on stderr\n"
             "  --memcap MIB   refuse work estimated above MIB MiB before allocating it (default: half the memory\n"
@@ -45,7 +46,7 @@ int rp_parse(rp_kit *k, int argc, char **argv, void (*usage)(FILE *))
         {"repeat", required_argument, NULL, 'n'}, {"quick", no_argument, NULL, 'k'},
         {"no-plots", no_argument, NULL, 'P'},   {"quiet", no_argument, NULL, 'q'},
         {"memcap", required_argument, NULL, 'M'},
-        {"scenes", required_argument, NULL, 's'},
+        {"scenes", required_argument, NULL, 's'}, {"accels", required_argument, NULL, 'a'},
         {"help", no_argument, NULL, 'h'},       {NULL, 0, NULL, 0},
     };
     rp_opts *o = &k->o;
@@ -77,6 +78,7 @@ int rp_parse(rp_kit *k, int argc, char **argv, void (*usage)(FILE *))
             break;
         case 'k': o->quick = true; break;
         case 's': o->scenes = optarg; break;
+        case 'a': o->accels = optarg; break;
         case 'M':
             if (resources_parse_memcap(optarg, &memcap_mib, why, sizeof why)) {
                 fprintf(stderr, "accelbench reproduce: %s\n", why);
@@ -398,7 +400,7 @@ int rp_finish(rp_kit *k, int rc, void (*report)(void *ctx, FILE *f), void *ctx, 
     free(md);
     if (rc) return rc;
     if (!k->o.quiet) fprintf(stderr, "wrote %s and %s (%.1f s)\n", k->csv_path, path, wall_s);
-    if (k->o.plots) run_plot_script(plot_script, k->csv_path, k->o.quiet);
+    if (k->o.plots && plot_script) run_plot_script(plot_script, k->csv_path, k->o.quiet);
     if (k->any_real) {
         fprintf(stderr, "accelbench: reproduce %s: REAL mismatches against Embree (see above and the Verification table)\n",
                 k->experiment);

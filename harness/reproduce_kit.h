@@ -25,6 +25,7 @@
 typedef struct {
     const char *out;
     const char *scenes; /* --scenes LIST, or NULL: every scene of the experiment */
+    const char *accels; /* --accels LIST (spd), or NULL: the experiment's own */
     int threads, repeat;
     bool quick, plots, quiet, repeat_given;
 } rp_opts;
@@ -37,7 +38,7 @@ typedef struct {
     const char *standin_why;
 } scene_def;
 
-#define RP_SETS_MAX 3
+#define RP_SETS_MAX 4
 #define RP_SCENES_MAX 12
 #define RP_MEAS_MAX 200
 

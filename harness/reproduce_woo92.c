@@ -299,6 +299,10 @@ int reproduce_woo92(int argc, char **argv)
     k->timed_threads = 1; /* grid-raybox mutates its lists: every timed trace on 1 thread */
     int rc = rp_parse(k, argc, argv, reproduce_usage);
     if (rc) return rc == 1 ? 0 : rc;
+    if (k->o.accels) {
+        fprintf(stderr, "accelbench reproduce woo92: --accels: Woo's tables name their own grids (--accels is for spd)\n");
+        return 2;
+    }
     if (k->o.scenes) {
         fprintf(stderr, "accelbench reproduce woo92: --scenes: Woo's tables need all four of his scenes\n");
         return 2;

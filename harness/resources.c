@@ -76,18 +76,49 @@ resources_estimate resources_workload(const char *name, const workload_opts *o, 
         e.bytes = max_u64(making, cell_bytes(e.rays, QUERY_ANY, true));
     } else if (!strcmp(name, "reflection")) {
         /* Every generation is at most the one before; the set keeps them all. */
-        e.rays = memory_mul(n, o->depth > 0 ? (uint64_t)o->depth : 3);
+        e.rays = memory_mul(n, o->depth > 0 ? (uint64_t)o->depth : WORKLOAD_REFLECTION_DEPTH);
         uint64_t making = memory_add(memory_add(base, resources_rayset_bytes(n, true)), resources_rayset_bytes(e.rays, true));
         e.bytes = max_u64(making, cell_bytes(e.rays, QUERY_CLOSEST, true));
     } else if (!strcmp(name, "diffuse")) {
         e.rays = n;
         e.bytes = max_u64(memory_add(base, resources_rayset_bytes(n, true)), cell_bytes(n, QUERY_CLOSEST, true));
+    } else if (!strncmp(name, "whitted:", 8)) {
+        whitted_part part = WHITTED_EYE;
+        while (part < WHITTED_PARTS && strcmp(whitted_part_name[part], name)) part++;
+        e = resources_whitted(o, nlights, true, part < WHITTED_PARTS ? part : WHITTED_SHADOW);
     } else { /* random: W*H*spp segments, without pixels (and without corners) */
         workload_opts plain = *o;
         plain.corners = false;
         e.rays = primary_rays(&plain);
         e.bytes = cell_bytes(e.rays, QUERY_CLOSEST, false);
     }
+    return e;
+}
+
+resources_estimate resources_whitted(const workload_opts *o, uint32_t nlights, bool transmitters, whitted_part part)
+{
+    workload_opts eye = *o;
+    eye.corners = true;
+    uint64_t n = primary_rays(&eye), depth = o->depth > 0 ? (uint64_t)o->depth : WORKLOAD_WHITTED_DEPTH;
+    /* Generation g (the eye rays are 1) has at most n b^(g-1) rays, b = 2
+     * where a transmitter can both reflect and refract, else 1; the
+     * secondary rays of each kind at generation g at most the hits of g-1. */
+    uint64_t gen = n, closest = 0, widest = n, secondary = 0;
+    for (uint64_t g = 1; g <= depth; g++) {
+        closest = memory_add(closest, gen);
+        widest = gen > widest ? gen : widest;
+        if (g > 1) secondary = memory_add(secondary, gen / (transmitters ? 2 : 1));
+        gen = transmitters ? memory_mul(gen, 2) : gen;
+    }
+    resources_estimate e;
+    e.rays = part == WHITTED_EYE ? n : part == WHITTED_SHADOW ? memory_mul(closest, nlights ? nlights : 1)
+             : part == WHITTED_REFRACTED && !transmitters ? 0 : secondary;
+    bool any = part == WHITTED_SHADOW;
+    /* Making: two generations and the answers of one alive beside the part being filled. */
+    uint64_t making = memory_add(memory_add(memory_mul(resources_rayset_bytes(widest, true), 2),
+                                            resources_answers_bytes(widest, QUERY_CLOSEST, false)),
+                                 resources_rayset_bytes(e.rays, true));
+    e.bytes = max_u64(making, cell_bytes(e.rays, any ? QUERY_ANY : QUERY_CLOSEST, true));
     return e;
 }
 
@@ -98,12 +129,14 @@ static void describe_image(char *buf, size_t len, int w, int h, int spp, bool co
     else snprintf(buf, len, "%dx%d at %d spp", w, h, spp < 1 ? 1 : spp);
 }
 
-int resources_check_workload(const char *name, const char *scene, const workload_opts *o, uint32_t nlights, char *err,
-                             size_t errlen)
+/* The estimate e of workload name against the set's limit and the cap. */
+static int check_estimate(const char *name, const char *scene, const workload_opts *o, uint32_t nlights,
+                          resources_estimate e, char *err, size_t errlen)
 {
-    resources_estimate e = resources_workload(name, o, nlights);
     char image[96];
-    describe_image(image, sizeof image, o->width, o->height, o->spp, o->corners && strcmp(name, "random") != 0);
+    bool whitted = !strncmp(name, "whitted:", 8);
+    describe_image(image, sizeof image, o->width, o->height, o->spp,
+                   whitted || (o->corners && strcmp(name, "random") != 0));
     if (e.rays > RESOURCES_RAYS_MAX) {
         snprintf(err, errlen,
                  "%s on %s: %s makes up to %llu rays, more than a ray set holds (2^32 - 1); lower --res, --spp or "
@@ -112,11 +145,28 @@ int resources_check_workload(const char *name, const char *scene, const workload
     }
     char lights[48] = "";
     if (!strcmp(name, "shadow")) snprintf(lights, sizeof lights, ", %u light%s", nlights, nlights == 1 ? "" : "s");
-    if (!strcmp(name, "reflection")) snprintf(lights, sizeof lights, ", depth %d", o->depth > 0 ? o->depth : 3);
+    if (!strcmp(name, "reflection"))
+        snprintf(lights, sizeof lights, ", depth %d", o->depth > 0 ? o->depth : WORKLOAD_REFLECTION_DEPTH);
+    if (whitted)
+        snprintf(lights, sizeof lights, ", tree depth %d, %u light%s", o->depth > 0 ? o->depth : WORKLOAD_WHITTED_DEPTH,
+                 nlights, nlights == 1 ? "" : "s");
     if (memory_cap_exceeded(e.bytes, err, errlen, "%s on %s: up to %llu rays (%s%s) and their answers", name, scene,
                             (unsigned long long)e.rays, image, lights))
         return -1;
     return 0;
+}
+
+int resources_check_workload(const char *name, const char *scene, const workload_opts *o, uint32_t nlights, char *err,
+                             size_t errlen)
+{
+    return check_estimate(name, scene, o, nlights, resources_workload(name, o, nlights), err, errlen);
+}
+
+int resources_check_whitted(const char *scene, const workload_opts *o, uint32_t nlights, bool transmitters,
+                            whitted_part part, char *err, size_t errlen)
+{
+    return check_estimate(whitted_part_name[part], scene, o, nlights, resources_whitted(o, nlights, transmitters, part),
+                          err, errlen);
 }
 
 resources_estimate resources_render(int width, int height, int spp, bool corners, bool heatmap)

@@ -55,6 +55,15 @@ resources_estimate resources_workload(const char *name, const workload_opts *o, 
  * than the cap. scene names the scene in the message. */
 int resources_check_workload(const char *name, const char *scene, const workload_opts *o, uint32_t nlights, char *err,
                              size_t errlen);
+/* A part of the whitted workload: the eye rays (W+1)(H+1); the tree's
+ * closest-hit generations at most double where the scene has a
+ * transmitter (T > 0: reflection and refraction) and stay as wide where it
+ * has none; every hit sees every light. resources_workload("whitted:...")
+ * assumes transmitters; the workload itself checks with what the scene
+ * has (resources_check_whitted). */
+resources_estimate resources_whitted(const workload_opts *o, uint32_t nlights, bool transmitters, whitted_part part);
+int resources_check_whitted(const char *scene, const workload_opts *o, uint32_t nlights, bool transmitters,
+                            whitted_part part, char *err, size_t errlen);
 
 /* render's image of width x height at spp samples (corners: SPD's corner
  * rays): the primary rays, and the image with its sums (Whitted) or the

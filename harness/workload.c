@@ -7,6 +7,7 @@
 #include <string.h>
 #include "resources.h"
 #include "rng.h"
+#include "spawn.h"
 #include "trace.h"
 
 /* rng streams: one per use, so workloads never share random numbers */
@@ -54,13 +55,15 @@ rayset_t *workload_primary(const scene_t *s, const workload_opts *o)
     rs->width = (uint32_t)w;
     rs->height = (uint32_t)h;
     rs->spp = (uint32_t)spp;
-    eye_t e = eye_setup(&s->camera, w, h);
+    /* Corner rays are the SPD's (W+1) x (H+1) grid of rays spanning the
+     * full view angle: NFF's angle runs between the outermost rays. */
+    eye_t e = o->corners ? eye_setup(&s->camera, w + 1, h + 1) : eye_setup(&s->camera, w, h);
     float hither = s->camera.hither > 0.0f ? s->camera.hither : 0.0f;
     if (o->corners) {
         /* (w+1) x (h+1) corner rays; each is charged to the pixel below-right of it (clamped). */
         for (int y = 0; y <= h; y++)
             for (int x = 0; x <= w; x++) {
-                ray_t r = eye_ray(&e, (float)x - 0.5f, (float)y - 0.5f, hither);
+                ray_t r = eye_ray(&e, (float)x, (float)y, hither);
                 uint32_t px = (uint32_t)((y < h ? y : h - 1) * w + (x < w ? x : w - 1));
                 rayset_push(rs, &r, px);
             }
@@ -92,7 +95,7 @@ rayset_t *workload_primary(const scene_t *s, const workload_opts *o)
  * error path, so a refusal is exit 2 with its line, as for the random
  * workload's box. run and verify have checked the same at one light before
  * their first scene; here the scene's lights are known. */
-static void require_memory(const char *name, const scene_t *s, const workload_opts *o)
+void workload_require_memory(const char *name, const scene_t *s, const workload_opts *o)
 {
     char err[1024];
     if (resources_check_workload(name, s->name, o, s->nlights, err, sizeof err) == 0) return;
@@ -104,12 +107,11 @@ static void require_memory(const char *name, const scene_t *s, const workload_op
 static rayset_t *make_primary(const scene_t *s, accel *ref, const workload_opts *o)
 {
     (void)ref;
-    require_memory("primary", s, o);
+    workload_require_memory("primary", s, o);
     return workload_primary(s, o);
 }
 
-/* Trace the primary rays through the reference; the caller frees both. */
-static answers_t *reference_hits(accel *ref, const rayset_t *prim, const workload_opts *o)
+answers_t *workload_reference_hits(accel *ref, const rayset_t *prim, const workload_opts *o)
 {
     answers_t *a = answers_new(prim, false);
     trace_rayset(ref, prim, o->threads, a);
@@ -118,23 +120,17 @@ static answers_t *reference_hits(accel *ref, const rayset_t *prim, const workloa
 
 static rayset_t *make_shadow(const scene_t *s, accel *ref, const workload_opts *o)
 {
-    require_memory("shadow", s, o);
+    workload_require_memory("shadow", s, o);
     rayset_t *prim = workload_primary(s, o);
-    answers_t *a = reference_hits(ref, prim, o);
+    answers_t *a = workload_reference_hits(ref, prim, o);
     rayset_t *rs = rayset_new("shadow", s->name, o->seed, QUERY_ANY);
     rs->width = prim->width, rs->height = prim->height, rs->spp = prim->spp;
     for (uint32_t i = 0; i < prim->count; i++) {
         if (a->hits[i].prim == HIT_NONE) continue;
-        vec3 org, n;
-        hit_frame(s, &prim->rays[i], &a->hits[i], &org, &n);
-        for (uint32_t l = 0; l < s->nlights; l++) {
-            vec3 to = v3_sub(s->lights[l], org);
-            float dist = v3_len(to);
-            /* SPD rule: no shadow ray from a surface facing away from the light. */
-            if (!(dist > 0.0f) || v3_dot(to, n) <= 0.0f) continue;
-            ray_t r = {org, 0.0f, v3_scale(to, 1.0f / dist), dist, l, 0};
-            rayset_push(rs, &r, prim->pixel[i]);
-        }
+        spawn_t f = spawn_at(s, &prim->rays[i], &a->hits[i]);
+        ray_t r;
+        for (uint32_t l = 0; l < s->nlights; l++)
+            if (spawn_shadow(s, &f, l, &r)) rayset_push(rs, &r, prim->pixel[i]);
     }
     answers_free(a);
     rayset_free(prim);
@@ -142,24 +138,21 @@ static rayset_t *make_shadow(const scene_t *s, accel *ref, const workload_opts *
     return rs;
 }
 
-static vec3 reflect(vec3 d, vec3 n) { return v3_sub(d, v3_scale(n, 2.0f * v3_dot(d, n))); }
-
 static rayset_t *make_reflection(const scene_t *s, accel *ref, const workload_opts *o)
 {
-    require_memory("reflection", s, o);
+    workload_require_memory("reflection", s, o);
     rayset_t *gen = workload_primary(s, o);
     rayset_t *rs = rayset_new("reflection", s->name, o->seed, QUERY_CLOSEST);
     rs->width = gen->width, rs->height = gen->height, rs->spp = gen->spp;
-    int depth = o->depth > 0 ? o->depth : 3;
+    int depth = o->depth > 0 ? o->depth : WORKLOAD_REFLECTION_DEPTH;
     for (int g = 1; g <= depth && gen->count; g++) {
-        answers_t *a = reference_hits(ref, gen, o);
+        answers_t *a = workload_reference_hits(ref, gen, o);
         rayset_t *next = rayset_new("reflection", s->name, o->seed, QUERY_CLOSEST);
         next->width = gen->width; /* keep pixel tracking on */
         for (uint32_t i = 0; i < gen->count; i++) {
             if (a->hits[i].prim == HIT_NONE) continue;
-            vec3 org, n;
-            hit_frame(s, &gen->rays[i], &a->hits[i], &org, &n);
-            ray_t r = {org, 0.0f, v3_norm(reflect(gen->rays[i].dir, n)), INFINITY, RAY_NO_LIGHT, 0};
+            spawn_t f = spawn_at(s, &gen->rays[i], &a->hits[i]);
+            ray_t r = spawn_reflect(&f);
             rayset_push(next, &r, gen->pixel[i]);
             rayset_push(rs, &r, gen->pixel[i]);
         }
@@ -185,17 +178,16 @@ static vec3 cosine_dir(vec3 n, float u1, float u2)
 
 static rayset_t *make_diffuse(const scene_t *s, accel *ref, const workload_opts *o)
 {
-    require_memory("diffuse", s, o);
+    workload_require_memory("diffuse", s, o);
     rayset_t *prim = workload_primary(s, o);
-    answers_t *a = reference_hits(ref, prim, o);
+    answers_t *a = workload_reference_hits(ref, prim, o);
     rayset_t *rs = rayset_new("diffuse", s->name, o->seed, QUERY_CLOSEST);
     rs->width = prim->width, rs->height = prim->height, rs->spp = prim->spp;
     for (uint32_t i = 0; i < prim->count; i++) {
         if (a->hits[i].prim == HIT_NONE) continue;
-        vec3 org, n;
-        hit_frame(s, &prim->rays[i], &a->hits[i], &org, &n);
-        vec3 d = cosine_dir(n, rng_float(o->seed, STREAM_DIFFUSE, i, 0), rng_float(o->seed, STREAM_DIFFUSE, i, 1));
-        ray_t r = {org, 0.0f, d, INFINITY, RAY_NO_LIGHT, 0};
+        spawn_t f = spawn_at(s, &prim->rays[i], &a->hits[i]);
+        vec3 d = cosine_dir(f.n, rng_float(o->seed, STREAM_DIFFUSE, i, 0), rng_float(o->seed, STREAM_DIFFUSE, i, 1));
+        ray_t r = {f.org_out, 0.0f, d, INFINITY, RAY_NO_LIGHT, 0};
         rayset_push(rs, &r, prim->pixel[i]);
     }
     answers_free(a);
@@ -249,7 +241,7 @@ rayset_t *workload_random(const scene_t *s, const workload_opts *o, char *err, s
 static rayset_t *make_random(const scene_t *s, accel *ref, const workload_opts *o)
 {
     (void)ref;
-    require_memory("random", s, o);
+    workload_require_memory("random", s, o);
     char err[512];
     rayset_t *rs = workload_random(s, o, err, sizeof err);
     if (!rs) {
@@ -259,12 +251,37 @@ static rayset_t *make_random(const scene_t *s, accel *ref, const workload_opts *
     return rs;
 }
 
+/* The whitted workload's four parts, one ray set each (workload_whitted.c). */
+static rayset_t *make_whitted_eye(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    return workload_whitted(s, ref, o, WHITTED_EYE);
+}
+static rayset_t *make_whitted_reflected(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    return workload_whitted(s, ref, o, WHITTED_REFLECTED);
+}
+static rayset_t *make_whitted_refracted(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    return workload_whitted(s, ref, o, WHITTED_REFRACTED);
+}
+static rayset_t *make_whitted_shadow(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    return workload_whitted(s, ref, o, WHITTED_SHADOW);
+}
+
 const workload_def workload_table[] = {
     {"primary", "pinhole camera rays through pixel centres (or corners), spp per pixel", QUERY_CLOSEST, make_primary},
     {"shadow", "occlusion rays from reference primary hits to every light on the lit side", QUERY_ANY, make_shadow},
     {"reflection", "mirror bounces from reference hits, generations 1..depth (default 3)", QUERY_CLOSEST, make_reflection},
     {"diffuse", "one cosine-distributed bounce from every reference primary hit", QUERY_CLOSEST, make_diffuse},
     {"random", "segments between uniform random points of the scene box (W*H*spp rays)", QUERY_CLOSEST, make_random},
+    {"whitted:eye", "SPD protocol: eye rays through the (W+1)x(H+1) pixel corners", QUERY_CLOSEST, make_whitted_eye},
+    {"whitted:reflected", "SPD protocol: reflection rays of the ray tree to depth 5 (eye ray = 1)", QUERY_CLOSEST,
+     make_whitted_reflected},
+    {"whitted:refracted", "SPD protocol: refraction rays (Snell's law where T > 0) of that tree", QUERY_CLOSEST,
+     make_whitted_refracted},
+    {"whitted:shadow", "SPD protocol: shadow rays from every hit of that tree to the lights it faces", QUERY_ANY,
+     make_whitted_shadow},
     {NULL, NULL, QUERY_CLOSEST, NULL},
 };
 

@@ -9,6 +9,12 @@
  *               (default 3), each generation traced by the reference
  *   diffuse     one cosine-distributed bounce from every primary hit
  *   random      segments between uniform random points of the scene box
+ *   whitted:eye, whitted:reflected, whitted:refracted, whitted:shadow
+ *               the SPD Readme's testing procedure (workload_whitted below):
+ *               the whole Whitted ray tree of the (W+1) x (H+1) pixel-corner
+ *               eye rays to depth 5, one ray set per ray type, so that every
+ *               counter and time is split by type; `--workloads whitted`
+ *               names all four
  *
  * Secondary rays are made from the REFERENCE accelerator's hits, so no
  * accelerator's bug changes the ray set. Ray sets are deterministic for a
@@ -19,12 +25,13 @@
 
 #include "../accel/accel.h"
 #include "rayset.h"
+#include "trace.h"
 
 typedef struct {
     int width, height; /* image size */
     int spp;           /* samples per pixel */
     bool corners;      /* rays through pixel corners instead of centres */
-    int depth;         /* reflection generations */
+    int depth;         /* reflection generations, whitted's tree depth; 0: each workload's default */
     uint64_t seed;
     int threads;       /* threads for tracing the reference while deriving rays */
 } workload_opts;
@@ -42,6 +49,38 @@ typedef struct {
 extern const workload_def workload_table[];
 const workload_def *workload_find(const char *name);
 
+/* The defaults of workload_opts.depth 0. */
+#define WORKLOAD_REFLECTION_DEPTH 3
+#define WORKLOAD_WHITTED_DEPTH 5 /* the SPD Readme's "maximum tree depth is 5 (where the eye ray is of depth 1)" */
+
+/* The whitted workload (workload_whitted.c): Whitted ray trees by the SPD
+ * Readme's testing procedure (items 6-10), from the (W+1) x (H+1) eye
+ * rays through the pixel corners (the SPD's 513 x 513 at --res 512x512),
+ * to tree depth o->depth (default 5, the eye ray being depth 1). At every
+ * hit of the tree (traced by the reference, generation by generation):
+ * a shadow ray to every light the surface faces (spawn.h); below the
+ * maximum depth, a reflection ray when the material has Ks > 0 or T > 0,
+ * and a refraction ray when T > 0 unless totally internally reflected.
+ * The four ray types are four ray sets (whitted:eye, :reflected,
+ * :refracted, :shadow), each in generation order and each ray charged to
+ * its eye ray's pixel; a part asked for alone costs only the tree it
+ * needs (the eye rays none, the others the closest-hit tree). */
+typedef enum { WHITTED_EYE, WHITTED_REFLECTED, WHITTED_REFRACTED, WHITTED_SHADOW, WHITTED_PARTS } whitted_part;
+extern const char *const whitted_part_name[WHITTED_PARTS]; /* "whitted:eye", ... */
+rayset_t *workload_whitted(const scene_t *s, accel *ref, const workload_opts *o, whitted_part part);
+
+/* Whether workload w makes no rays on scene s by its own rules, whatever
+ * the view and image: whitted:reflected where no material reflects or
+ * transmits (Ks = T = 0), whitted:refracted where none transmits (T = 0).
+ * Tests that ask every workload for rays excuse an empty set only then. */
+bool workload_empty_by_rule(const workload_def *w, const scene_t *s);
+
+/* For the workload files: the estimate against the memory cap (exit 2
+ * with one line when over), and the reference's hits for a set of
+ * closest-hit rays (the caller frees them). */
+void workload_require_memory(const char *name, const scene_t *s, const workload_opts *o);
+answers_t *workload_reference_hits(accel *ref, const rayset_t *rays, const workload_opts *o);
+
 /* Primary rays alone (also used by the renderer). */
 rayset_t *workload_primary(const scene_t *s, const workload_opts *o);
 /* The random workload, or NULL with the reason when the scene's box has no
@@ -50,11 +89,7 @@ rayset_t *workload_primary(const scene_t *s, const workload_opts *o);
  * prints that reason and exits 2. */
 rayset_t *workload_random(const scene_t *s, const workload_opts *o, char *err, size_t errlen);
 
-/* Where secondary rays leave a hit: the origin, on the incoming ray's side
- * of the surface in exact arithmetic (prim_surface_point and
- * offset_ray_origin: pbrt-v4's error bounds), and the unit geometric normal
- * turned to face the incoming ray. Every workload and the renderer spawn
- * through this one function. */
-void hit_frame(const scene_t *s, const ray_t *r, const hit_t *h, vec3 *org, vec3 *n);
+/* Secondary rays leave hits through spawn.h (origins, the shadow rule,
+ * reflection and refraction), as the renderer's do. */
 
 #endif

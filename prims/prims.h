@@ -176,7 +176,15 @@ vec3 prim_normal(const prims_t *p, const hit_t *hit, const ray_t *ray);
  * conservative bound on the rounding error of each coordinate (pbrt-v4's
  * error-bound method, PBR 4th ed. s6.8.5) and the unit geometric normal
  * there (not flipped toward the ray). */
-typedef struct { vec3 p, err, normal; } surface_point;
+typedef struct {
+    vec3 p, err, normal;
+    /* Where p lies for shading: the vertex indices of the triangle (a
+     * polygon's ear triangle) and p's barycentric weights on it; tri[0] is
+     * SURFACE_NO_TRIANGLE for spheres, cones and degenerate primitives. */
+    uint32_t tri[3];
+    float w[3];
+} surface_point;
+#define SURFACE_NO_TRIANGLE UINT32_MAX
 /* From the ray's parameterisation point o + t d at hit->t: triangles and
  * polygons (through the ear triangle that contains it) by barycentrics
  * clamped onto the primitive, spheres as centre + r n, cones in their axis

@@ -133,12 +133,11 @@ static void interpolate(const vec3 v[3], const double w[3], vec3 *p, vec3 *err)
     *err = to_float(with_reach(dscale(mag, gamma_f(7)), reach));
 }
 
-static bool triangle_point(const vec3 v[3], const ray_t *r, double t, vec3 *p, vec3 *err, double *inside)
+static bool triangle_point(const vec3 v[3], const ray_t *r, double t, vec3 *p, vec3 *err, double *inside, double w[3])
 {
     dvec3 a = dv3(v[0]), b = dv3(v[1]), c = dv3(v[2]);
     dvec3 nrm = dv3_cross(dv3_sub(b, a), dv3_sub(c, a));
     if (!(dv3_dot(nrm, nrm) > 0.0)) return false;
-    double w[3];
     *inside = barycentric(a, b, c, onto_plane(r, t, a, nrm), w);
     interpolate(v, w, p, err);
     return true;
@@ -149,6 +148,18 @@ static void tri_vertices(const vec3 *verts, const tri_t *tri, vec3 v[3])
     for (int k = 0; k < 3; k++) v[k] = verts[tri->v[k]];
 }
 
+/* Record the shading triangle and weights (see surface_point). */
+static void set_shading(surface_point *sp, const tri_t *tri, const double w[3])
+{
+    for (int k = 0; k < 3; k++) sp->tri[k] = tri->v[k], sp->w[k] = (float)w[k];
+}
+
+static surface_point no_shading(vec3 p, vec3 err, vec3 normal)
+{
+    surface_point sp = {p, err, normal, {SURFACE_NO_TRIANGLE, SURFACE_NO_TRIANGLE, SURFACE_NO_TRIANGLE}, {0, 0, 0}};
+    return sp;
+}
+
 static surface_point sphere_point(sphere_t s, const ray_t *r, double t)
 {
     dvec3 c = dv3(s.center), off = dv3_sub(ray_point(r, t), c);
@@ -156,8 +167,7 @@ static surface_point sphere_point(sphere_t s, const ray_t *r, double t)
     /* The centre itself (only for a ray starting there): any direction. */
     dvec3 n = len > 0.0 ? dscale(off, 1.0 / len) : dmake(0, 1, 0);
     dvec3 lever = dscale(n, (double)s.radius);
-    surface_point sp;
-    sp.p = to_float(dadd(c, lever));
+    surface_point sp = no_shading(to_float(dadd(c, lever)), v3(0, 0, 0), v3(0, 0, 0));
     /* gamma(5) times the magnitudes that make up each coordinate. */
     dvec3 mag = dadd(dabs(c), dabs(lever));
     double slack = DOUBLE_SLACK * (dmaxc(c) + s.radius);
@@ -183,8 +193,7 @@ static surface_point cone_point(cone_t cn, const ray_t *r, double t)
     }
     double radius = cn.base_radius + (cn.apex_radius - cn.base_radius) * h / len;
     dvec3 along = dscale(w, h), out = dscale(radial, radius / rho);
-    surface_point sp;
-    sp.p = to_float(dadd(b, dadd(along, out)));
+    surface_point sp = no_shading(to_float(dadd(b, dadd(along, out))), v3(0, 0, 0), v3(0, 0, 0));
     dvec3 mag = dadd(dabs(b), dadd(dabs(along), dabs(out)));
     double slack = DOUBLE_SLACK * (dmaxc(b) + len + fmax(cn.base_radius, cn.apex_radius));
     double reach = len + 2.0 * fmax(cn.base_radius, cn.apex_radius);
@@ -199,13 +208,17 @@ static surface_point cone_point(cone_t cn, const ray_t *r, double t)
  * little: that gap joins the error bound. */
 static surface_point polygon_point(const prims_t *p, const polygon_t *g, const ray_t *r, double t)
 {
-    surface_point sp = {{0, 0, 0}, {0, 0, 0}, g->normal};
+    surface_point sp = no_shading(v3(0, 0, 0), v3(0, 0, 0), g->normal);
     double best = -INFINITY;
     for (uint32_t k = 0; k + 2 < g->count; k++) {
         vec3 v[3], q, e;
-        double inside;
-        tri_vertices(p->verts, &p->poly_tris[g->tri_first + k], v);
-        if (triangle_point(v, r, t, &q, &e, &inside) && inside > best) best = inside, sp.p = q, sp.err = e;
+        double inside, w[3];
+        const tri_t *ear = &p->poly_tris[g->tri_first + k];
+        tri_vertices(p->verts, ear, v);
+        if (triangle_point(v, r, t, &q, &e, &inside, w) && inside > best) {
+            best = inside, sp.p = q, sp.err = e;
+            set_shading(&sp, ear, w);
+        }
     }
     /* The polygon test works with every vertex, not only the ear's. */
     double reach = 0.0;
@@ -224,10 +237,11 @@ surface_point prim_surface_point(const prims_t *p, const ray_t *ray, const hit_t
     case PRIM_TRIANGLE: {
         surface_point sp;
         vec3 v[3];
-        double inside;
+        double inside, w[3];
         tri_vertices(p->verts, &p->tris[k], v);
-        if (!triangle_point(v, ray, t, &sp.p, &sp.err, &inside)) break;
+        if (!triangle_point(v, ray, t, &sp.p, &sp.err, &inside, w)) break;
         sp.normal = prim_normal(p, hit, ray);
+        set_shading(&sp, &p->tris[k], w);
         return sp;
     }
     case PRIM_SPHERE:
@@ -241,8 +255,7 @@ surface_point prim_surface_point(const prims_t *p, const ray_t *ray, const hit_t
         break;
     }
     /* Degenerate primitives are never hit; keep the ray's own point. */
-    surface_point sp = {v3_madd(ray->org, ray->dir, hit->t), {0, 0, 0}, prim_normal(p, hit, ray)};
-    return sp;
+    return no_shading(v3_madd(ray->org, ray->dir, hit->t), v3(0, 0, 0), prim_normal(p, hit, ray));
 }
 
 vec3 offset_ray_origin(vec3 p, vec3 err, vec3 n)

@@ -14,8 +14,9 @@
  * coordinates is far smaller than the error of the point (o + t d carries
  * the error of t |d| ~ 1e3). It holds overlapping decals in the floor
  * plane, sliver trims in the wall planes along every corner, and (unless
- * "empty") needles 0.01 wide and 300 tall, a slanted panel, a box, two
- * mirror spheres and a column (a cylinder). Two point lights hang inside.
+ * "empty") needles 0.01 wide and 300 tall, a slanted panel, a box, a
+ * mirror sphere, a glass sphere (T 0.8, ior 1.5) and a column (a
+ * cylinder). Two point lights hang inside.
  *
  * "gen:room:empty" keeps only the shell with its decals and trims: a convex
  * room lit from inside, where every visible point sees both lights, so any
@@ -64,7 +65,7 @@ static void quad(room_ctx *c, const double o[3], const double u[3], const double
 
 static void material(room_ctx *c, float r, float g, float b, float kd, float ks)
 {
-    material_t m = {v3(r, g, b), kd, ks};
+    material_t m = {v3(r, g, b), kd, ks, 0.0f, 1.0f};
     scene_set_material_upto(c->s, scene_add_material(c->s, m));
 }
 
@@ -116,8 +117,10 @@ static void contents(room_ctx *c)
     }
     material(c, 0.6f, 0.65f, 0.7f, 0.6f, 0.3f);
     prims_add_sphere(&c->s->prims, place(c, -600, 60, -1200), 60.0f);
-    prims_add_sphere(&c->s->prims, place(c, 2200, 150, 300), 150.0f);
     material(c, 0.9f, 0.9f, 0.9f, 0.2f, 0.8f);
+    /* Glass, so that refracted rays (the whitted workload) leave a surface at these coordinates too. */
+    prims_add_sphere(&c->s->prims, place(c, 2200, 150, 300), 150.0f);
+    scene_set_material_upto(c->s, scene_add_material(c->s, (material_t){v3(0.9f, 0.95f, 1.0f), 0.1f, 0.2f, 0.8f, 1.5f}));
     prims_add_cone(&c->s->prims, place(c, 300, 0, -2200), 40.0f, place(c, 300, HALL_H, -2200), 40.0f);
     material(c, 0.7f, 0.6f, 0.5f, 0.8f, 0.1f);
 }

@@ -10,9 +10,10 @@
  *
  * What scene_t keeps of NFF: the view (from/at/up/angle/hither/resolution),
  * the background, the light positions (not their optional colours), the
- * material colour, Kd and Ks (not Shine, T or ior), and every primitive in
+ * material colour, Kd, Ks, T and ior (not Shine), and every primitive in
  * file order: `p 3` and `pp 3` become triangles, larger `p`/`pp` polygons,
- * `s` spheres and `c` cones. Patch normals are read and dropped. */
+ * `s` spheres and `c` cones. Patch normals are kept as vertex normals
+ * (scene_t.normals): a `pp` is a smooth primitive. */
 #ifndef ACCELBENCH_NFF_H
 #define ACCELBENCH_NFF_H
 
@@ -33,17 +34,19 @@ scene_t *scene_load_nff(const char *name, const char *path, char *err, size_t er
 scene_t *scene_parse_nff(const char *name, const char *path, const char *data, size_t size, char *err, size_t errlen);
 
 /* Write s as NFF: `b`, `v`, the `l` lines, then the primitives in order with
- * an `f` line whenever the material changes. Shine, T and ior, which
- * scene_t does not keep, are written as 3.0827 (the SPD's usual highlight
- * exponent), 0 and 1. Numbers are printed with %.9g, so every float reads
- * back bit for bit (same scene_geometry_hash). Returns 0, or -1 with
- * "PATH: reason" in err. */
+ * an `f` line whenever the material changes; smooth primitives (vertex
+ * normals) as `pp`. Shine, which scene_t does not keep, is written as
+ * 3.0827 (the SPD's usual highlight exponent). Numbers are printed with
+ * %.9g, so every float reads back bit for bit (same scene_geometry_hash,
+ * which covers the `pp` normals). Returns 0, or -1 with "PATH: reason" in
+ * err. */
 int scene_write_nff(const scene_t *s, const char *path, char *err, size_t errlen);
 
 /* FNV-1a (64-bit) over the primitives in order: each one's kind, then its
  * float geometry (triangle: the 3 vertex positions; sphere: centre,
  * radius; cone: base, base radius, apex, apex radius; polygon: the vertex
- * count and the positions). Positions, not vertex indices, so two scenes
+ * count and the positions), and after a smooth primitive its vertex
+ * normals. Positions, not vertex indices, so two scenes
  * with the same geometry hash alike however their vertices are shared:
  * an NFF round trip keeps the hash. */
 uint64_t scene_geometry_hash(const scene_t *s);

@@ -131,6 +131,7 @@ typedef struct {
     uint16_t material;       /* the current `f` */
     uint32_t inside_cones;   /* cones given with negative radii */
     vec3 *pts;               /* the vertices of the polygon being read */
+    vec3 *nrms;              /* their `pp` normals (same capacity) */
     uint32_t *idx;           /* and their indices in the store (same capacity) */
     uint32_t npts, pts_cap;
 } nff_parser;
@@ -331,16 +332,11 @@ static void settle_materials(nff_parser *ps)
 {
     if (!ps->have_material) {
         if (ps->s->prims.count == 0) return;
-        material_t grey = {v3(0.8f, 0.8f, 0.8f), 0.8f, 0.2f};
+        material_t grey = {v3(0.8f, 0.8f, 0.8f), 0.8f, 0.2f, 0.0f, 1.0f};
         ps->material = scene_add_material(ps->s, grey);
         ps->have_material = true;
     }
     scene_set_material_upto(ps->s, ps->material);
-}
-
-static bool same_material(material_t a, material_t b)
-{
-    return a.color.x == b.color.x && a.color.y == b.color.y && a.color.z == b.color.z && a.kd == b.kd && a.ks == b.ks;
 }
 
 /* `f R G B Kd Ks Shine T ior`. A repeat of the current material (SPD
@@ -349,13 +345,13 @@ static bool parse_material(nff_parser *ps)
 {
     int line = ps->lx.tok_line;
     material_t m;
-    float shine, t, ior;
+    float shine;
     enter(ps, "f", 0);
     if (!read_vec3(ps, &m.color) || !read_float(ps, &m.kd) || !read_float(ps, &m.ks) || !read_float(ps, &shine) ||
-        !read_float(ps, &t) || !read_float(ps, &ior))
+        !read_float(ps, &m.t) || !read_float(ps, &m.ior))
         return false;
     settle_materials(ps);
-    if (ps->have_material && same_material(ps->s->materials[ps->material], m)) return true;
+    if (ps->have_material && material_equal(ps->s->materials[ps->material], m)) return true;
     if (ps->s->nmaterials > UINT16_MAX) return fail(ps, line, "more than 65536 different materials");
     ps->material = scene_add_material(ps->s, m);
     ps->have_material = true;
@@ -417,14 +413,16 @@ static bool parse_sphere(nff_parser *ps)
     return true;
 }
 
-static void push_point(nff_parser *ps, vec3 v)
+static void push_point(nff_parser *ps, vec3 v, vec3 normal)
 {
     if (ps->npts == ps->pts_cap) {
         uint32_t cap = ps->pts_cap ? 2 * ps->pts_cap : 64;
         ps->pts = checked_realloc(ps->pts, (size_t)cap * sizeof *ps->pts, "an NFF polygon's vertices");
+        ps->nrms = checked_realloc(ps->nrms, (size_t)cap * sizeof *ps->nrms, "an NFF patch's normals");
         ps->idx = checked_realloc(ps->idx, (size_t)cap * sizeof *ps->idx, "an NFF polygon's vertex indices");
         ps->pts_cap = cap;
     }
+    ps->nrms[ps->npts] = normal;
     ps->pts[ps->npts++] = v;
 }
 
@@ -440,13 +438,15 @@ static void merge_duplicates(nff_parser *ps)
 {
     uint32_t k = 0;
     for (uint32_t i = 0; i < ps->npts; i++)
-        if (k == 0 || !same_point(ps->pts[i], ps->pts[k - 1])) ps->pts[k++] = ps->pts[i];
+        if (k == 0 || !same_point(ps->pts[i], ps->pts[k - 1])) ps->nrms[k] = ps->nrms[i], ps->pts[k++] = ps->pts[i];
     while (k > 1 && same_point(ps->pts[k - 1], ps->pts[0])) k--;
     ps->npts = k;
 }
 
 /* `p N` + N `x y z` lines, or `pp N` + N `x y z nx ny nz` lines (patch
- * normals are for shading, which the store does not do: read, dropped).
+ * normals go into scene_t.normals, for shading and secondary-ray
+ * directions; a zero normal leaves its vertex without one, and so the
+ * patch flat).
  * A declared triangle is kept even when degenerate, like every mesh
  * loader here (the store keeps zero-area triangles so ids stay stable, and
  * a written mesh must read back); larger polygons lose consecutive
@@ -462,10 +462,10 @@ static bool parse_polygon(nff_parser *ps, bool patch)
     enter(ps, kw, (uint32_t)n);
     ps->npts = 0;
     for (uint32_t i = 0; i < n; i++) {
-        vec3 v, normal;
+        vec3 v, normal = {0, 0, 0};
         ps->entity_vertex = i + 1;
         if (!read_point(ps, false, &v) || (patch && !read_vec3(ps, &normal))) return false;
-        push_point(ps, v);
+        push_point(ps, v, normal);
     }
     if (n > 3) merge_duplicates(ps);
     if (ps->npts < 3)
@@ -473,7 +473,10 @@ static bool parse_polygon(nff_parser *ps, bool patch)
     if (!room_for(ps, line, ps->npts)) return false;
     prims_t *p = &ps->s->prims;
     uint32_t first = p->nverts;
-    for (uint32_t i = 0; i < ps->npts; i++) prims_add_vertex(p, ps->pts[i]);
+    for (uint32_t i = 0; i < ps->npts; i++) {
+        uint32_t v = prims_add_vertex(p, ps->pts[i]);
+        if (patch) scene_set_vertex_normal(ps->s, v, ps->nrms[i]);
+    }
     if (ps->npts == 3) {
         prims_add_triangle(p, first, first + 1, first + 2);
     } else {
@@ -532,6 +535,7 @@ scene_t *scene_parse_nff(const char *name, const char *path, const char *data, s
     ps.s = scene_new(name);
     bool ok = parse_file(&ps);
     free(ps.pts);
+    free(ps.nrms);
     free(ps.idx);
     scene_t *s = ps.s;
     if (!ok) {

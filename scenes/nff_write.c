@@ -41,6 +41,22 @@ static uint64_t fnv_vec3(uint64_t h, vec3 v)
     return fnv_float(fnv_float(fnv_float(h, v.x), v.y), v.z);
 }
 
+/* A smooth primitive's vertex normals (after its geometry), so that a
+ * round trip that lost them or a `pp` read as `p` changes the hash. */
+static uint64_t hash_normals(uint64_t h, const scene_t *s, uint32_t id)
+{
+    if (!scene_prim_smooth(s, id)) return h;
+    const prims_t *p = &s->prims;
+    uint32_t k = p->index[id];
+    h = fnv_u32(h, 0x7070u); /* "pp" */
+    if (p->kind[id] == PRIM_TRIANGLE)
+        for (int j = 0; j < 3; j++) h = fnv_vec3(h, s->normals[p->tris[k].v[j]]);
+    else
+        for (uint32_t j = 0; j < p->polygons[k].count; j++)
+            h = fnv_vec3(h, s->normals[p->poly_verts[p->polygons[k].first + j]]);
+    return h;
+}
+
 static uint64_t hash_prim(uint64_t h, const prims_t *p, uint32_t id)
 {
     uint32_t k = p->index[id];
@@ -74,7 +90,7 @@ static uint64_t hash_prim(uint64_t h, const prims_t *p, uint32_t id)
 uint64_t scene_geometry_hash(const scene_t *s)
 {
     uint64_t h = FNV_OFFSET;
-    for (uint32_t id = 0; id < s->prims.count; id++) h = hash_prim(h, &s->prims, id);
+    for (uint32_t id = 0; id < s->prims.count; id++) h = hash_normals(hash_prim(h, &s->prims, id), s, id);
     return h;
 }
 
@@ -99,7 +115,7 @@ static void write_header(FILE *f, const scene_t *s)
 {
     const camera_t *c = &s->camera;
     write_origin(f, s);
-    fputs("# f lines: shine, T and ior are not kept by accelbench; written as 3.0827 0 1\n", f);
+    fputs("# f lines: shine is not kept by accelbench; written as 3.0827\n", f);
     fputs("b ", f);
     put_vec3(f, s->background);
     fputs("\nv\nfrom ", f);
@@ -121,25 +137,32 @@ static void write_material(FILE *f, const material_t *m)
 {
     fputs("f ", f);
     put_vec3(f, m->color);
-    fprintf(f, " %.9g %.9g 3.0827 0 1\n", (double)m->kd, (double)m->ks);
+    fprintf(f, " %.9g %.9g 3.0827 %.9g %.9g\n", (double)m->kd, (double)m->ks, (double)m->t, (double)m->ior);
 }
 
-/* A `p N` block: the count, then one vertex per line. */
-static void write_points(FILE *f, const prims_t *p, const uint32_t *idx, uint32_t n)
+/* A `p N` block: the count, then one vertex per line; or, given vertex
+ * normals, a `pp N` block with each vertex's normal after it. */
+static void write_points(FILE *f, const prims_t *p, const vec3 *normals, const uint32_t *idx, uint32_t n)
 {
-    fprintf(f, "p %u\n", n);
+    fprintf(f, "%s %u\n", normals ? "pp" : "p", n);
     for (uint32_t j = 0; j < n; j++) {
         put_vec3(f, p->verts[idx[j]]);
+        if (normals) {
+            fputc(' ', f);
+            put_vec3(f, normals[idx[j]]);
+        }
         fputc('\n', f);
     }
 }
 
-static void write_prim(FILE *f, const prims_t *p, uint32_t id)
+static void write_prim(FILE *f, const scene_t *s, uint32_t id)
 {
+    const prims_t *p = &s->prims;
+    const vec3 *normals = scene_prim_smooth(s, id) ? s->normals : NULL;
     uint32_t k = p->index[id];
     switch (p->kind[id]) {
     case PRIM_TRIANGLE:
-        write_points(f, p, p->tris[k].v, 3);
+        write_points(f, p, normals, p->tris[k].v, 3);
         break;
     case PRIM_SPHERE:
         fputs("s ", f);
@@ -156,7 +179,7 @@ static void write_prim(FILE *f, const prims_t *p, uint32_t id)
         break;
     }
     case PRIM_POLYGON:
-        write_points(f, p, p->poly_verts + p->polygons[k].first, p->polygons[k].count);
+        write_points(f, p, normals, p->poly_verts + p->polygons[k].first, p->polygons[k].count);
         break;
     default:
         break;
@@ -174,7 +197,7 @@ static void write_objects(FILE *f, const scene_t *s)
             current = s->prim_material[id];
             write_material(f, &s->materials[current]);
         }
-        write_prim(f, p, id);
+        write_prim(f, s, id);
     }
 }
 

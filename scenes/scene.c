@@ -13,6 +13,7 @@
 typedef struct {
     scene_t pub;
     uint32_t material_upto; /* prims [0, material_upto) have a material */
+    uint32_t normals_cap;   /* vertices the normals array has room for */
 } scene_impl;
 
 static void *xrealloc(void *p, size_t n) { return checked_realloc(p, n, "a scene's lights, materials or table of materials"); }
@@ -36,6 +37,7 @@ void scene_free(scene_t *s)
     free(s->lights);
     free(s->materials);
     free(s->prim_material);
+    free(s->normals);
     free((scene_impl *)s);
 }
 
@@ -64,6 +66,59 @@ void scene_set_material_upto(scene_t *s, uint16_t material)
     s->prim_material = xrealloc(s->prim_material, (size_t)n * sizeof *s->prim_material);
     for (uint32_t i = si->material_upto; i < n; i++) s->prim_material[i] = material;
     si->material_upto = n;
+}
+
+/* Room for vertex normals [0, n), new ones zero (no normal). */
+static void reserve_normals(scene_t *s, uint32_t n)
+{
+    scene_impl *si = (scene_impl *)s;
+    if (n <= si->normals_cap) return;
+    uint32_t cap = si->normals_cap ? si->normals_cap : 64;
+    while (cap < n) cap = cap > UINT32_MAX / 2 ? n : cap * 2;
+    s->normals = checked_realloc(s->normals, (size_t)cap * sizeof *s->normals, "a scene's vertex normals");
+    memset(s->normals + si->normals_cap, 0, (size_t)(cap - si->normals_cap) * sizeof *s->normals);
+    si->normals_cap = cap;
+}
+
+void scene_set_vertex_normal(scene_t *s, uint32_t v, vec3 n)
+{
+    reserve_normals(s, v + 1);
+    float len = v3_len(n);
+    /* One already unit length (to a few float steps) is kept bit for bit,
+     * so that a normal written and read back is the same normal. */
+    if (!(len > 0.0f) || !isfinite(len)) n = v3(0, 0, 0);
+    else if (fabsf(len - 1.0f) > 1e-6f) n = v3_scale(n, 1.0f / len);
+    s->normals[v] = n;
+}
+
+static bool has_normal(const scene_t *s, uint32_t v)
+{
+    vec3 n = s->normals[v];
+    return n.x != 0.0f || n.y != 0.0f || n.z != 0.0f;
+}
+
+bool scene_prim_smooth(const scene_t *s, uint32_t id)
+{
+    if (!s->normals) return false;
+    const prims_t *p = &s->prims;
+    uint32_t k = p->index[id];
+    if (p->kind[id] == PRIM_TRIANGLE)
+        return has_normal(s, p->tris[k].v[0]) && has_normal(s, p->tris[k].v[1]) && has_normal(s, p->tris[k].v[2]);
+    if (p->kind[id] != PRIM_POLYGON) return false;
+    const polygon_t *g = &p->polygons[k];
+    for (uint32_t i = 0; i < g->count; i++)
+        if (!has_normal(s, p->poly_verts[g->first + i])) return false;
+    return true;
+}
+
+vec3 scene_shading_normal(const scene_t *s, uint32_t id, const surface_point *sp)
+{
+    if (sp->tri[0] == SURFACE_NO_TRIANGLE || !scene_prim_smooth(s, id)) return sp->normal;
+    vec3 n = v3(0, 0, 0);
+    for (int k = 0; k < 3; k++) n = v3_madd(n, s->normals[sp->tri[k]], sp->w[k]);
+    float len = v3_len(n);
+    /* Opposite normals at the corners can cancel: the flat normal then. */
+    return len > 1e-6f && isfinite(len) ? v3_scale(n, 1.0f / len) : sp->normal;
 }
 
 static const char *what(const scene_t *s)
@@ -145,9 +200,11 @@ int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen)
         return -1;
     }
 
+    /* Vertex normals, when there are any, cover every vertex. */
+    if (s->normals) reserve_normals(s, s->prims.nverts);
     scene_impl *si = (scene_impl *)s;
     if (si->material_upto < s->prims.count) {
-        material_t grey = {v3(0.8f, 0.8f, 0.8f), 0.8f, 0.2f};
+        material_t grey = {v3(0.8f, 0.8f, 0.8f), 0.8f, 0.2f, 0.0f, 1.0f};
         scene_set_material_upto(s, scene_add_material(s, grey));
     }
     if (!has_camera) default_camera(s);

@@ -24,11 +24,22 @@ typedef struct {
     int width, height; /* the source's resolution; workloads may override */
 } camera_t;
 
-/* Whitted-style material: colour, diffuse weight, mirror weight. */
+/* Whitted-style material, NFF's `f R G B Kd Ks Shine T ior` without the
+ * Phong exponent: colour, diffuse weight, mirror weight, transmittance and
+ * index of refraction (T > 0: a transmitter, refracting with ior by
+ * Snell's law; ior matters only then). */
 typedef struct {
     vec3 color;
     float kd, ks;
+    float t, ior;
 } material_t;
+
+/* Whether two materials are the same (loaders share repeated ones). */
+static inline bool material_equal(material_t a, material_t b)
+{
+    return a.color.x == b.color.x && a.color.y == b.color.y && a.color.z == b.color.z && a.kd == b.kd &&
+           a.ks == b.ks && a.t == b.t && a.ior == b.ior;
+}
 
 typedef struct scene {
     char name[256];      /* as given on the command line */
@@ -41,6 +52,11 @@ typedef struct scene {
     material_t *materials;
     uint16_t *prim_material; /* [prims.count] index into materials */
     vec3 background;
+    /* Per-vertex shading normals (NFF `pp` patches, the SPD teapot): NULL
+     * when the source gave none, else [prims.nverts] unit vectors, zero for
+     * a vertex without one. A triangle or polygon whose every vertex has a
+     * normal is smooth: scene_shading_normal() interpolates them. */
+    vec3 *normals;
     box3 bounds;         /* == prims.box */
     char view[256];      /* where the camera came from: "automatic" (scene_finish's), "source" (the
                           * file's or generator's own), else the views applied, '@'-joined ("nave",
@@ -212,6 +228,18 @@ scene_t *scene_new(const char *name);
 /* Returns the new material's index; at most 65536 materials. */
 uint16_t scene_add_material(scene_t *s, material_t m);
 void scene_add_light(scene_t *s, vec3 p);
+/* Give vertex v (of the primitive store) the shading normal n, normalised
+ * (one within 1e-6 of unit length is kept as given, so a round trip through
+ * a file keeps it bit for bit); a zero or non-finite n gives it none. */
+void scene_set_vertex_normal(scene_t *s, uint32_t v, vec3 n);
+/* Whether primitive id has per-vertex normals (a smooth triangle or
+ * polygon: every one of its vertices has one). */
+bool scene_prim_smooth(const scene_t *s, uint32_t id);
+/* The unit normal that shades the surface point sp of primitive id
+ * (prim_surface_point's): the vertex normals interpolated with sp's
+ * barycentric weights on its (ear) triangle for a smooth primitive, else
+ * sp.normal. Not turned toward any ray. */
+vec3 scene_shading_normal(const scene_t *s, uint32_t id, const surface_point *sp);
 /* Record the material of every primitive added since the last call. */
 void scene_set_material_upto(scene_t *s, uint16_t material);
 /* Finish: the geometry's ranges (scene_check_geometry), prims_finish,

@@ -237,18 +237,15 @@ void spd_light(spd_ctx *c, spd_vec p) { scene_add_light(c->s, tof(p)); }
 
 void spd_material(spd_ctx *c, double r, double g, double b, double kd, double ks, double shine, double t, double ior)
 {
-    (void)shine, (void)t, (void)ior;
-    material_t m = {v3((float)r, (float)g, (float)b), (float)kd, (float)ks};
+    (void)shine;
+    material_t m = {v3((float)r, (float)g, (float)b), (float)kd, (float)ks, (float)t, (float)ior};
     scene_t *s = c->s;
     uint32_t id = s->nmaterials;
-    for (uint32_t i = 0; i < s->nmaterials; i++) {
-        const material_t *o = &s->materials[i];
-        if (o->color.x == m.color.x && o->color.y == m.color.y && o->color.z == m.color.z && o->kd == m.kd &&
-            o->ks == m.ks) {
+    for (uint32_t i = 0; i < s->nmaterials; i++)
+        if (material_equal(s->materials[i], m)) {
             id = i;
             break;
         }
-    }
     if (c->have_material && id == c->material) return;
     push_run(c); /* the primitives so far keep the old material */
     if (id == s->nmaterials) id = scene_add_material(s, m);
@@ -267,7 +264,9 @@ void spd_sphere(spd_ctx *c, spd_vec centre, double r)
     }
     const cube_sphere *cs = &c->cs;
     uint32_t base = p->nverts;
-    for (uint32_t i = 0; i < cs->nverts; i++) prims_add_vertex(p, tof(spd_add(centre, spd_scale(cs->dir[i], r))));
+    /* Patches with the sphere's normal at every vertex, as the SPD's -t output. */
+    for (uint32_t i = 0; i < cs->nverts; i++)
+        scene_set_vertex_normal(c->s, prims_add_vertex(p, tof(spd_add(centre, spd_scale(cs->dir[i], r)))), tof(cs->dir[i]));
     for (uint32_t i = 0; i < cs->ntris; i++)
         prims_add_triangle(p, base + cs->tri[i][0], base + cs->tri[i][1], base + cs->tri[i][2]);
 }
@@ -277,7 +276,10 @@ void spd_sphere(spd_ctx *c, spd_vec centre, double r)
  * ring point k at angle 2*pi*k/(4 RES) from u toward v, base ring first
  * (vertices b_0.., then a_0..). Segment k gives (b_k, b_k+1, a_k+1) and
  * (a_k+1, a_k, b_k), wound counter-clockwise seen from outside. A pointed
- * end (radius 0) gives zero-area triangles, kept so the count is 8*RES. */
+ * end (radius 0) gives zero-area triangles, kept so the count is 8*RES.
+ * Every vertex has the cone's outward normal at its angle, d L + w (rb - ra)
+ * normalised (d the radial direction, L the axis length), as the SPD's
+ * -t patches. */
 static void emit_cone_tess(spd_ctx *c, spd_vec base, double rb, spd_vec apex, double ra)
 {
     prims_t *p = &c->s->prims;
@@ -286,12 +288,14 @@ static void emit_cone_tess(spd_ctx *c, spd_vec base, double rb, spd_vec apex, do
     spd_vec e = ax <= ay && ax <= az ? spd_v(1, 0, 0) : ay <= az ? spd_v(0, 1, 0) : spd_v(0, 0, 1);
     spd_vec u = spd_norm(spd_cross(w, e)), v = spd_cross(w, u);
     uint32_t nseg = 4u * (uint32_t)c->tess_res, b0 = p->nverts, a0 = b0 + nseg;
+    double len = spd_len(spd_sub(apex, base));
     for (int end = 0; end < 2; end++) {
         spd_vec o = end ? apex : base;
         double r = end ? ra : rb;
         for (uint32_t k = 0; k < nseg; k++) {
             spd_vec d = spd_add(spd_scale(u, c->cone_cos[k]), spd_scale(v, c->cone_sin[k]));
-            prims_add_vertex(p, tof(spd_add(o, spd_scale(d, r))));
+            uint32_t id = prims_add_vertex(p, tof(spd_add(o, spd_scale(d, r))));
+            scene_set_vertex_normal(c->s, id, tof(spd_add(spd_scale(d, len), spd_scale(w, rb - ra))));
         }
     }
     for (uint32_t k = 0; k < nseg; k++) {
@@ -351,12 +355,11 @@ void spd_polygon(spd_ctx *c, const spd_vec *pts, int n)
     }
 }
 
-void spd_patch(spd_ctx *c, const spd_vec pts[3])
+void spd_patch(spd_ctx *c, const spd_vec pts[3], const spd_vec normals[3])
 {
     prims_t *p = &c->s->prims;
-    uint32_t a = prims_add_vertex(p, tof(pts[0]));
-    prims_add_vertex(p, tof(pts[1]));
-    prims_add_vertex(p, tof(pts[2]));
+    uint32_t a = p->nverts;
+    for (int k = 0; k < 3; k++) scene_set_vertex_normal(c->s, prims_add_vertex(p, tof(pts[k])), tof(normals[k]));
     prims_add_triangle(p, a, a + 1, a + 2);
 }
 

@@ -74,9 +74,10 @@ void spd_view(spd_ctx *c, spd_vec from, spd_vec at, spd_vec up, double angle_deg
 /* The SPD's "l": a point light. */
 void spd_light(spd_ctx *c, spd_vec p);
 /* The SPD's "f R G B Kd Ks Shine T ior", for the primitives that follow.
- * material_t keeps the colour, kd and ks (the mirror weight); shine,
- * transmittance and the index of refraction are accepted for the record
- * but not stored. Identical materials are shared. */
+ * material_t keeps the colour, kd, ks (the mirror weight), T and ior (the
+ * whitted workload refracts through T > 0); shine is accepted for the
+ * record but not stored (nothing here computes highlights). Identical
+ * materials are shared. */
 void spd_material(spd_ctx *c, double r, double g, double b, double kd, double ks, double shine, double t, double ior);
 
 /* The SPD's "s": a sphere (tessellated: 12*RES^2 triangles). */
@@ -89,10 +90,10 @@ void spd_cone(spd_ctx *c, spd_vec base, double rb, spd_vec apex, double ra);
  * 3 remain, one triangle for 3, else a polygon (tessellated: its n - 2
  * ear-clipping triangles). */
 void spd_polygon(spd_ctx *c, const spd_vec *pts, int n);
-/* The SPD's "pp 3": a triangle patch. The per-vertex normals are not kept
- * (prims_t has none), so this is one triangle in both modes, without the
+/* The SPD's "pp 3": a triangle patch with per-vertex normals (kept in
+ * scene_t.normals, unit length), one triangle in both modes, without the
  * polygon writer's vertex merging (the SPD's patch writer has none). */
-void spd_patch(spd_ctx *c, const spd_vec pts[3]);
+void spd_patch(spd_ctx *c, const spd_vec pts[3], const spd_vec normals[3]);
 
 /* --- the generators --- */
 

@@ -11,9 +11,11 @@
  *   cell (s0, t0) gives (s0,t0), (s0,t1), (s1,t1) and (s1,t1), (s1,t0),
  *   (s0,t0). P(s,t) = sum_rc B_r(s) B_c(t) G[r][c] (Bernstein).
  * - Cusps: a vertex with |x| < 1e-4 and |y| < 1e-4 is on the axis; a
- *   triangle with 2 or more such vertices is dropped (8n of them). The
- *   SPD's per-vertex normals (dP/dt x dP/ds, +-Z at cusps) are not kept:
- *   the primitive store has no vertex normals.
+ *   triangle with 2 or more such vertices is dropped (8n of them).
+ * - Vertex normals, as the SPD's `pp 3` output: normalize(dP/dt x dP/ds)
+ *   from the Bernstein derivatives; a triangle's one vertex on the axis
+ *   gets (0, 0, +1) when z > 1.5, else (0, 0, -1). Kept in
+ *   scene_t.normals (the whitted workload and render shade with them).
  * - Checkerboard over [-4,4]^2 at z = 0: square (s,t) spans
  *   x in [4(2s/n - 1), 4(2(s+1)/n - 1)], y likewise with t, corners
  *   (lo,lo), (hi,lo), (hi,hi), (lo,hi); the (s+t) odd ones first (white),
@@ -32,22 +34,34 @@ extern const int spd_teapot_npatches, spd_teapot_nverts;
 extern const unsigned short spd_teapot_patches[][16];
 extern const double spd_teapot_verts[][3];
 
-static void bernstein(double u, double b[4])
+static void bernstein(double u, double b[4], double db[4])
 {
     double v = 1.0 - u;
     b[0] = v * v * v;
     b[1] = 3.0 * u * v * v;
     b[2] = 3.0 * u * u * v;
     b[3] = u * u * u;
+    db[0] = -3.0 * v * v;
+    db[1] = 3.0 * v * v - 6.0 * u * v;
+    db[2] = 6.0 * u * v - 3.0 * u * u;
+    db[3] = 3.0 * u * u;
 }
+
+/* A grid point of a patch: position and unit normal. */
+typedef struct { spd_vec p, n; } patch_point;
 
 static int on_axis(spd_vec p) { return fabs(p.x) < 1e-4 && fabs(p.y) < 1e-4; }
 
-static void patch_triangle(spd_ctx *c, spd_vec a, spd_vec b, spd_vec d)
+static void patch_triangle(spd_ctx *c, patch_point a, patch_point b, patch_point d)
 {
-    if (on_axis(a) + on_axis(b) + on_axis(d) >= 2) return; /* degenerate at a cusp */
-    spd_vec t[3] = {a, b, d};
-    spd_patch(c, t);
+    patch_point v[3] = {a, b, d};
+    if (on_axis(a.p) + on_axis(b.p) + on_axis(d.p) >= 2) return; /* degenerate at a cusp */
+    spd_vec pts[3], nrm[3];
+    for (int k = 0; k < 3; k++) {
+        pts[k] = v[k].p;
+        nrm[k] = on_axis(v[k].p) ? spd_v(0, 0, v[k].p.z > 1.5 ? 1.0 : -1.0) : v[k].n;
+    }
+    spd_patch(c, pts, nrm);
 }
 
 static void square(spd_ctx *c, int n, int s, int t)
@@ -84,29 +98,38 @@ void spd_gen_teapot(spd_ctx *c, int size)
 
     spd_material(c, 1.0, 0.5, 0.1, 0.75, 0.25, spd_shine(37.0), 0.0, 0.0);
     /* Bernstein weights of the n + 1 parameter steps, and one patch's grid. */
+    /* Bernstein weights and their derivatives at the n + 1 parameter steps, and one patch's grid. */
     double (*B)[4] = checked_calloc((size_t)(n + 1), sizeof *B, "the SPD teapot's Bernstein weights");
-    spd_vec *P = checked_calloc((size_t)(n + 1) * (n + 1), sizeof *P, "the SPD teapot's patch grid");
-    for (int i = 0; i <= n; i++) bernstein((double)i / n, B[i]);
+    double (*dB)[4] = checked_calloc((size_t)(n + 1), sizeof *dB, "the SPD teapot's Bernstein derivatives");
+    patch_point *P = checked_calloc((size_t)(n + 1) * (n + 1), sizeof *P, "the SPD teapot's patch grid");
+    for (int i = 0; i <= n; i++) bernstein((double)i / n, B[i], dB[i]);
     for (int p = 0; p < spd_teapot_npatches; p++) {
         const unsigned short *g = spd_teapot_patches[p];
         for (int i = 0; i <= n; i++)
             for (int j = 0; j <= n; j++) {
-                spd_vec q = spd_v(0, 0, 0);
+                spd_vec q = spd_v(0, 0, 0), ds = q, dt = q;
                 for (int r = 0; r < 4; r++)
                     for (int k = 0; k < 4; k++) {
                         const double *v = spd_teapot_verts[g[4 * r + k]];
-                        q = spd_add(q, spd_scale(spd_v(v[0], v[1], v[2]), B[i][r] * B[j][k]));
+                        spd_vec cp = spd_v(v[0], v[1], v[2]);
+                        q = spd_add(q, spd_scale(cp, B[i][r] * B[j][k]));
+                        ds = spd_add(ds, spd_scale(cp, dB[i][r] * B[j][k]));
+                        dt = spd_add(dt, spd_scale(cp, B[i][r] * dB[j][k]));
                     }
-                P[i * (n + 1) + j] = q; /* s = i/n, t = j/n */
+                spd_vec nrm = spd_cross(dt, ds);
+                double len = spd_len(nrm);
+                /* s = i/n, t = j/n; a zero normal (a degenerate point) leaves the vertex without one */
+                P[i * (n + 1) + j] = (patch_point){q, len > 0.0 ? spd_scale(nrm, 1.0 / len) : spd_v(0, 0, 0)};
             }
         for (int s = 0; s < n; s++)
             for (int t = 0; t < n; t++) {
-                spd_vec s0t0 = P[s * (n + 1) + t], s0t1 = P[s * (n + 1) + t + 1];
-                spd_vec s1t0 = P[(s + 1) * (n + 1) + t], s1t1 = P[(s + 1) * (n + 1) + t + 1];
+                patch_point s0t0 = P[s * (n + 1) + t], s0t1 = P[s * (n + 1) + t + 1];
+                patch_point s1t0 = P[(s + 1) * (n + 1) + t], s1t1 = P[(s + 1) * (n + 1) + t + 1];
                 patch_triangle(c, s0t0, s0t1, s1t1);
                 patch_triangle(c, s1t1, s1t0, s0t0);
             }
     }
     free(B);
+    free(dB);
     free(P);
 }

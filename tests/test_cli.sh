@@ -114,7 +114,7 @@ expect 2 "--judge-seconds -1" -- "$AB" verify --scenes spd:balls:1 --judge-secon
     --save-rays "$T/gr.rays" > "$T/gr.out" 2> "$T/gr.err"
 line=$(grep -m1 'replay: accelbench verify .*--accels grid-raybox' "$T/gr.out")
 case "$line" in
-    *"--res 80x80 --spp 1 --seed 7 --depth 3 --accels grid-raybox --param grid-raybox.res=20x20x20 --param grid-raybox.mtf=off --ray "*) ok ;;
+    *"--res 80x80 --spp 1 --seed 7 --accels grid-raybox --param grid-raybox.res=20x20x20 --param grid-raybox.mtf=off --ray "*) ok ;;
     *) bad "replay line lacks the options that made the ray set: '$line'" ;;
 esac
 saved=$(grep -o 'hash [0-9a-f]*' "$T/gr.err" | awk '{print $2}')
@@ -218,6 +218,20 @@ done
 # their figures beside ours: tree's D1/D20 from data/havran_figures.csv, 1517.0 / 781.3 = 1.94
 grep -q '^| spd:tree | 64x64x2 | 173x173x5 |.*| 1\.94 |' "$T/hav/havran_tables.md" && ok || bad "havran grid table lacks their tree ratio 1.94"
 ls "$T"/hav/havran_{grids,octrees,across}.png > /dev/null 2>&1 && ok || bad "reproduce havran wrote no PNG"
+# --- reproduce spd (quick, two scenes, two accelerators): the protocol's four ray sets through each, the
+# Readme's counts beside ours (scaled to 33x33 eye rays), our counts equal to the CSV's ray sets
+expect 0 "verified: 0 real mismatches in 4 measurements" -- "$AB" reproduce spd --quick --scenes mount,tetra \
+    --accels bvh-gs,grid --out "$T/spd" --quiet
+[ "$(grep -c '^spd,bvh-gs,,spd:mount,.*,whitted:' "$T/spd/spd.csv")" = 4 ] && ok || bad "spd.csv: bvh-gs on mount not 4 sets"
+for t in "Rays (the Readme's Database Analysis)" "## bvh-gs" "### grid by ray type" "| spd:tetra |"; do
+    grep -qF "$t" "$T/spd/spd_tables.md" 2>/dev/null && ok || bad "spd_tables.md lacks '$t'"
+done
+# mount's refracted rays: the table's count is the CSV's ray set, and the Readme's 354769 scaled by 33^2/513^2 = 1468
+refr=$(/usr/bin/python3 -c 'import csv,sys; print([r["rays"] for r in csv.DictReader(open(sys.argv[1])) if r["variant"]=="bvh-gs" and r["scene"]=="spd:mount" and r["workload"]=="whitted:refracted"][0])' "$T/spd/spd.csv")
+[ -n "$refr" ] && [ "$refr" -gt 0 ] && grep -q "^| spd:mount | [0-9]* | 716 | [0-9]* | 1468 | $refr | 1468 |" "$T/spd/spd_tables.md" \
+    && ok || bad "spd_tables.md: mount's row lacks its refracted count $refr beside the Readme's 1468"
+expect 2 "unknown accelerator 'nope'" -- "$AB" reproduce spd --accels bvh-gs,nope
+expect 2 "Havran's tables name their own structures" -- "$AB" reproduce havran --accels grid
 expect 2 "unknown scene 'nope' .known: balls, gears" -- "$AB" reproduce havran --scenes tetra,nope
 expect 2 "Woo's tables need all four" -- "$AB" reproduce woo92 --scenes balls
 expect 2 "unknown experiment 'nope'" -- "$AB" reproduce nope

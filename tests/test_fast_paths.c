@@ -120,7 +120,7 @@ static void check_scene(const char *name, bool with_exhaustive)
     scene_t *s = test_scene(name);
     accel *ref = test_build("embree", s, 1);
     workload_opts o = test_wl(40, 40, 1);
-    rayset_t *sets[8];
+    rayset_t *sets[16];
     int nsets = 0;
     for (int w = 0; workload_table[w].name; w++) sets[nsets++] = workload_table[w].make(s, ref, &o);
     ref->ops->destroy(ref);

@@ -173,6 +173,10 @@ static void round_trip(const scene_t *s, const char *file)
         same_materials = memcmp(&x, &y, sizeof x) == 0;
     }
     CHECK_MSG(same_materials, "%s: per-primitive materials differ", file);
+    /* pp stays pp: the same smooth primitives with the same normals (the hash covers them too). */
+    bool same_smooth = a->count == b->count && (s->normals != NULL) == (r->normals != NULL);
+    for (uint32_t i = 0; same_smooth && i < a->count; i++) same_smooth = scene_prim_smooth(s, i) == scene_prim_smooth(r, i);
+    CHECK_MSG(same_smooth, "%s: smooth (pp) primitives differ", file);
     CHECK(memcmp(&a->box, &b->box, sizeof a->box) == 0);
     printf("round trip %s: %u primitives\n", file, b->count);
     scene_free(r);
@@ -189,12 +193,12 @@ static scene_t *build_mixed_scene(void)
     prims_add_triangle(p, v[0], v[1], v[2]);
     prims_add_triangle(p, v[2], v[1], v[3]); /* shares two vertices */
     prims_add_triangle(p, v[4], v[4], v[5]); /* degenerate, but a mesh may have it */
-    uint16_t m0 = scene_add_material(s, (material_t){v3(0.1f, 0.2f, 0.3f), 0.45f, 0.55f});
+    uint16_t m0 = scene_add_material(s, (material_t){v3(0.1f, 0.2f, 0.3f), 0.45f, 0.55f, 0.0f, 1.0f});
     scene_set_material_upto(s, m0);
     prims_add_sphere(p, v3(odd[0], odd[1], odd[2]), 1.0f / 7.0f);
     prims_add_cone(p, v3(0, 0, 0), 0.3f, v3(0.1f, 0.2f, 1.0f / 3.0f), 0.0f);
     prims_add_cone(p, v3(1, 1, 1), 0.25f, v3(1, 1, 2), 0.25f);
-    uint16_t m1 = scene_add_material(s, (material_t){v3(1.0f / 3.0f, 0.9f, 0.7f), 0.5f, 0.5f});
+    uint16_t m1 = scene_add_material(s, (material_t){v3(1.0f / 3.0f, 0.9f, 0.7f), 0.5f, 0.5f, 0.25f, 1.5f});
     scene_set_material_upto(s, m1);
     uint32_t quad[4] = {v[0], v[1], v[3], v[2]};
     prims_add_polygon(p, quad, 4);
@@ -203,6 +207,12 @@ static scene_t *build_mixed_scene(void)
     for (int i = 0; i < 6; i++) prims_add_vertex(p, v3(l[i][0] * 0.1f, l[i][1] * 0.1f, 0.3f));
     uint32_t lidx[6] = {base, base + 1, base + 2, base + 3, base + 4, base + 5};
     prims_add_polygon(p, lidx, 6);
+    /* A smooth (pp) concave polygon and a smooth triangle; the other triangles stay flat. */
+    for (int i = 0; i < 6; i++) scene_set_vertex_normal(s, base + (uint32_t)i, v3(0.1f * (float)i, 0.2f, 1.0f));
+    uint32_t t0 = p->nverts;
+    for (int i = 0; i < 3; i++) prims_add_vertex(p, v3((float)i, 1.0f / 3.0f, 0.7f * (float)(i == 1)));
+    prims_add_triangle(p, t0, t0 + 1, t0 + 2);
+    for (int i = 0; i < 3; i++) scene_set_vertex_normal(s, t0 + (uint32_t)i, v3(0.0f, (float)i - 1.0f, 2.0f));
     scene_set_material_upto(s, m0);
     scene_add_light(s, v3(0.1f, 10, 1.0f / 3.0f));
     s->background = v3(0.078f, 0.361f, 0.753f);
@@ -220,8 +230,8 @@ static void test_round_trips(void)
     round_trip(s, "mixed.nff");
     scene_free(s);
 
-    const char *names[] = {"spd:balls:2", "dragon"};
-    for (int i = 0; i < 2; i++) {
+    const char *names[] = {"spd:balls:2", "spd:teapot:3", "dragon"};
+    for (int i = 0; i < 3; i++) {
         s = scene_load(names[i], err, sizeof err);
         if (!s && strstr(err, "install the Debian package")) {
             printf("skipped %s round trip: %s\n", names[i], err);
@@ -229,7 +239,13 @@ static void test_round_trips(void)
         }
         CHECK_MSG(s != NULL, "%s: %s", names[i], err);
         if (!s) continue;
-        round_trip(s, i == 0 ? "balls2.nff" : "dragon.nff");
+        if (i == 1) { /* the teapot's patches are smooth, its checkerboard is not */
+            uint32_t smooth = 0;
+            for (uint32_t k = 0; k < s->prims.count; k++) smooth += scene_prim_smooth(s, k);
+            CHECK_MSG(smooth == s->prims.count - 9, "teapot:3: %u of %u primitives smooth, expected all but the 9 squares",
+                      smooth, s->prims.count);
+        }
+        round_trip(s, i == 0 ? "balls2.nff" : i == 1 ? "teapot3.nff" : "dragon.nff");
         scene_free(s);
     }
 }

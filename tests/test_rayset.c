@@ -35,7 +35,8 @@ static void copy_file_truncated(const char *from, const char *to, long cut, long
 
 int main(void)
 {
-    scene_t *s = test_scene("spd:balls:2");
+    /* The mountain has glass spheres: every workload, whitted:refracted too, has rays. */
+    scene_t *s = test_scene("spd:mount:3");
     accel *ref1 = test_build("embree", s, 1), *ref2 = test_build("embree", s, 2);
     accel *ex = test_build("exhaustive", s, 1);
     char err[512];

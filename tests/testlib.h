@@ -86,8 +86,9 @@ static inline void test_workloads_agree(const scene_t *s, accel *ref, accel *a, 
                (unsigned long long)hits, (unsigned long long)vr.agree);
         for (int c = 0; c < MM_CLASSES; c++) printf(" %s %llu", mismatch_class_name[c], (unsigned long long)vr.mismatches[c]);
         printf("\n");
-        CHECK_MSG(rs->count > 0, "%s %s: empty ray set", s->name, wl);
-        CHECK_MSG(hits > 0, "%s %s: the reference hit nothing; the test would prove nothing", s->name, wl);
+        bool excused = rs->count == 0 && workload_empty_by_rule(&workload_table[w], s);
+        CHECK_MSG(rs->count > 0 || excused, "%s %s: empty ray set", s->name, wl);
+        CHECK_MSG(hits > 0 || excused, "%s %s: the reference hit nothing; the test would prove nothing", s->name, wl);
         CHECK_MSG(vr.mismatches[MM_REAL] == 0, "%s %s %s: %llu real mismatches", s->name, label, wl,
                   (unsigned long long)vr.mismatches[MM_REAL]);
         CHECK_MSG(vr.agree * 1000 >= (uint64_t)rs->count * 999, "%s %s %s: only %llu of %u agree", s->name, label, wl,
