@@ -95,13 +95,17 @@ rayset_t *workload_primary(const scene_t *s, const workload_opts *o)
  * error path, so a refusal is exit 2 with its line, as for the random
  * workload's box. run and verify have checked the same at one light before
  * their first scene; here the scene's lights are known. */
-void workload_require_memory(const char *name, const scene_t *s, const workload_opts *o)
+void workload_refuse(const char *err)
 {
-    char err[1024];
-    if (resources_check_workload(name, s->name, o, s->nlights, err, sizeof err) == 0) return;
     fflush(stdout);
     fprintf(stderr, "accelbench: %s\n", err);
     exit(2);
+}
+
+void workload_require_memory(const char *name, const scene_t *s, const workload_opts *o)
+{
+    char err[1024];
+    if (resources_check_workload(name, s->name, o, s->nlights, err, sizeof err)) workload_refuse(err);
 }
 
 static rayset_t *make_primary(const scene_t *s, accel *ref, const workload_opts *o)
@@ -244,10 +248,7 @@ static rayset_t *make_random(const scene_t *s, accel *ref, const workload_opts *
     workload_require_memory("random", s, o);
     char err[512];
     rayset_t *rs = workload_random(s, o, err, sizeof err);
-    if (!rs) {
-        fprintf(stderr, "accelbench: %s\n", err);
-        exit(2);
-    }
+    if (!rs) workload_refuse(err);
     return rs;
 }
 

@@ -75,9 +75,11 @@ rayset_t *workload_whitted(const scene_t *s, accel *ref, const workload_opts *o,
  * Tests that ask every workload for rays excuse an empty set only then. */
 bool workload_empty_by_rule(const workload_def *w, const scene_t *s);
 
-/* For the workload files: the estimate against the memory cap (exit 2
- * with one line when over), and the reference's hits for a set of
- * closest-hit rays (the caller frees them). */
+/* For the workload files: a refusal (the table's make() has no error
+ * path: "accelbench: ERR" and exit 2), the estimate against the memory cap
+ * (refused when over), and the reference's hits for a set of closest-hit
+ * rays (the caller frees them). */
+__attribute__((noreturn)) void workload_refuse(const char *err);
 void workload_require_memory(const char *name, const scene_t *s, const workload_opts *o);
 answers_t *workload_reference_hits(accel *ref, const rayset_t *rays, const workload_opts *o);
 

@@ -18,8 +18,6 @@
  * next is made, so no accelerator under test changes the rays. */
 #include "workload.h"
 
-#include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include "resources.h"
 #include "spawn.h"
@@ -48,14 +46,12 @@ bool workload_empty_by_rule(const workload_def *w, const scene_t *s)
     return false;
 }
 
-/* The set's refusal, as the other workloads' (workload_require_memory). */
+/* The set's estimate against the memory cap, with what the scene's materials allow. */
 static void require_memory(const scene_t *s, const workload_opts *o, whitted_part part)
 {
     char err[1024];
-    if (resources_check_whitted(s->name, o, s->nlights, scene_has_transmitter(s), part, err, sizeof err) == 0) return;
-    fflush(stdout);
-    fprintf(stderr, "accelbench: %s\n", err);
-    exit(2);
+    if (resources_check_whitted(s->name, o, s->nlights, scene_has_transmitter(s), part, err, sizeof err))
+        workload_refuse(err);
 }
 
 static rayset_t *new_part(const scene_t *s, const workload_opts *o, whitted_part part, const rayset_t *eye)
@@ -71,14 +67,15 @@ rayset_t *workload_whitted(const scene_t *s, accel *ref, const workload_opts *o,
     workload_opts corners = *o;
     corners.corners = true;
     rayset_t *gen = workload_primary(s, &corners);
-    if (part == WHITTED_EYE) {
+    if (part == WHITTED_EYE) { /* sealed already: the hash is of the rays, not the name */
         snprintf(gen->workload, sizeof gen->workload, "%s", whitted_part_name[part]);
-        rayset_seal(gen);
         return gen;
     }
     rayset_t *out = new_part(s, o, part, gen);
     int depth = o->depth > 0 ? o->depth : WORKLOAD_WHITTED_DEPTH;
-    for (int d = 1; d <= depth && gen->count; d++) {
+    /* Only shadow rays leave the last generation's hits: the other parts need not trace it. */
+    int traced = part == WHITTED_SHADOW ? depth : depth - 1;
+    for (int d = 1; d <= traced && gen->count; d++) {
         answers_t *a = workload_reference_hits(ref, gen, o);
         rayset_t *next = rayset_new("whitted", s->name, o->seed, QUERY_CLOSEST);
         next->width = gen->width; /* keep pixel tracking on */

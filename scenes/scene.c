@@ -68,21 +68,24 @@ void scene_set_material_upto(scene_t *s, uint16_t material)
     si->material_upto = n;
 }
 
-/* Room for vertex normals [0, n), new ones zero (no normal). */
-static void reserve_normals(scene_t *s, uint32_t n)
+/* Room for vertex normals [0, n), new ones zero (no normal): exactly n,
+ * or, growing one vertex at a time, the capacity doubled. */
+static void reserve_normals(scene_t *s, uint32_t n, bool exact)
 {
     scene_impl *si = (scene_impl *)s;
     if (n <= si->normals_cap) return;
-    uint32_t cap = si->normals_cap ? si->normals_cap : 64;
+    uint32_t cap = exact ? n : si->normals_cap ? si->normals_cap : 64;
     while (cap < n) cap = cap > UINT32_MAX / 2 ? n : cap * 2;
     s->normals = checked_realloc(s->normals, (size_t)cap * sizeof *s->normals, "a scene's vertex normals");
     memset(s->normals + si->normals_cap, 0, (size_t)(cap - si->normals_cap) * sizeof *s->normals);
     si->normals_cap = cap;
 }
 
+void scene_reserve_vertex_normals(scene_t *s, uint32_t n) { reserve_normals(s, n, true); }
+
 void scene_set_vertex_normal(scene_t *s, uint32_t v, vec3 n)
 {
-    reserve_normals(s, v + 1);
+    reserve_normals(s, v + 1, false);
     float len = v3_len(n);
     /* One already unit length (to a few float steps) is kept bit for bit,
      * so that a normal written and read back is the same normal. */
@@ -93,6 +96,7 @@ void scene_set_vertex_normal(scene_t *s, uint32_t v, vec3 n)
 
 static bool has_normal(const scene_t *s, uint32_t v)
 {
+    if (v >= ((const scene_impl *)s)->normals_cap) return false; /* a scene not finished yet may hold fewer */
     vec3 n = s->normals[v];
     return n.x != 0.0f || n.y != 0.0f || n.z != 0.0f;
 }
@@ -201,7 +205,7 @@ int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen)
     }
 
     /* Vertex normals, when there are any, cover every vertex. */
-    if (s->normals) reserve_normals(s, s->prims.nverts);
+    if (s->normals) reserve_normals(s, s->prims.nverts, false);
     scene_impl *si = (scene_impl *)s;
     if (si->material_upto < s->prims.count) {
         material_t grey = {v3(0.8f, 0.8f, 0.8f), 0.8f, 0.2f, 0.0f, 1.0f};

@@ -228,6 +228,9 @@ scene_t *scene_new(const char *name);
 /* Returns the new material's index; at most 65536 materials. */
 uint16_t scene_add_material(scene_t *s, material_t m);
 void scene_add_light(scene_t *s, vec3 p);
+/* Room for the normals of vertices [0, n) at exactly that size, for a maker
+ * that knows its vertex count (the SPD generators reserve their store so). */
+void scene_reserve_vertex_normals(scene_t *s, uint32_t n);
 /* Give vertex v (of the primitive store) the shading normal n, normalised
  * (one within 1e-6 of unit length is kept as given, so a round trip through
  * a file keeps it bit for bit); a zero or non-finite n gives it none. */

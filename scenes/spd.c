@@ -429,6 +429,7 @@ uint64_t spd_prims(const spd_generator *g, int size, int tess_res)
  * its vertex bytes, freed before scene_finish). */
 typedef struct {
     uint64_t prims, verts, tris, spheres, cones, polygons, poly_verts, poly_tris;
+    uint64_t normals; /* vertex normals (scene_t.normals): every vertex when any primitive is smooth, else 0 */
 } store_plan;
 
 static store_plan plan_store(const spd_census *n, int tess_res)
@@ -440,6 +441,8 @@ static store_plan plan_store(const spd_census *n, int tess_res)
         p.verts = memory_add(memory_add(memory_mul(n->spheres, 6 * r * r + 2), memory_mul(n->cones, 8 * r)),
                              n->polygon_verts);
         p.prims = p.tris;
+        /* Tessellated spheres and cones are smooth patches, as the teapot's are. */
+        p.normals = n->spheres || n->cones || n->patches ? p.verts : 0;
         return p;
     }
     p.spheres = n->spheres;
@@ -452,11 +455,13 @@ static store_plan plan_store(const spd_census *n, int tess_res)
     p.poly_tris = p.polygons ? n->polygon_tris - min_tris : 0;
     p.verts = n->polygon_verts;
     p.prims = memory_add(memory_add(n->spheres, n->cones), n->polygons);
+    p.normals = n->patches ? p.verts : 0;
     return p;
 }
 
 /* Heap bytes of a scene of that plan: the store's arrays (prims/prims.h),
- * the bounds and flags prims_finish adds, the per-primitive materials, and
+ * the bounds and flags prims_finish adds, the per-primitive materials, the
+ * vertex normals, and
  * in tessellated mode the unit cube sphere and cone angles of the context. */
 static uint64_t plan_bytes(const store_plan *p, int tess_res)
 {
@@ -469,6 +474,7 @@ static uint64_t plan_bytes(const store_plan *p, int tess_res)
     b = memory_add(b, memory_mul(p->polygons, sizeof *z->polygons));
     b = memory_add(b, memory_mul(p->poly_verts, sizeof *z->poly_verts));
     b = memory_add(b, memory_mul(p->poly_tris, sizeof *z->poly_tris));
+    b = memory_add(b, memory_mul(p->normals, sizeof(vec3)));
     if (tess_res) {
         uint64_t r = (uint64_t)tess_res, n1 = r + 1;
         b = memory_add(b, n1 * n1 * n1 * sizeof(int32_t) + (6 * r * r + 2) * sizeof(spd_vec) + 12 * r * r * 12 +
@@ -539,6 +545,7 @@ scene_t *scene_spd(const char *name, const char *generator, int size, int tess_r
 
     scene_t *s = scene_new(name);
     reserve_store(&s->prims, &plan);
+    if (plan.normals) scene_reserve_vertex_normals(s, (uint32_t)plan.normals);
     if (tess_res)
         snprintf(s->source, sizeof s->source, "SPD 3.14 %s -s %d -t %d: %llu triangles%s", g->file, size, asked_res,
                  (unsigned long long)prims, tess_res != asked_res ? " (the generator forces resolution 2)" : "");

@@ -105,6 +105,7 @@ typedef struct {
     uint64_t polygons;      /* "p" (any n) and "pp" primitives */
     uint64_t polygon_tris;  /* their triangles when tessellated: sum of (n - 2) */
     uint64_t polygon_verts; /* their vertices: sum of n */
+    uint64_t patches;       /* of the polygons, "pp" triangle patches (vertex normals) */
 } spd_census;
 
 typedef struct {

@@ -75,7 +75,7 @@ static void square(spd_ctx *c, int n, int s, int t)
 void spd_census_teapot(int size, spd_census *n)
 {
     uint64_t k = (uint64_t)size, patches = 64 * k * k - 8 * k;
-    *n = (spd_census){.polygons = k * k + patches, .polygon_tris = 2 * k * k + patches,
+    *n = (spd_census){.polygons = k * k + patches, .polygon_tris = 2 * k * k + patches, .patches = patches,
                       .polygon_verts = 4 * k * k + 3 * patches};
 }
 

@@ -118,8 +118,8 @@ static void test_refusal_line(void)
 
 /* --------------------------------------------------------- SPD scenes */
 
-/* Heap bytes a scene's store and materials hold: every array at its
- * capacity (what was allocated, not what is used). */
+/* Heap bytes a scene's store, materials and vertex normals hold: every
+ * array at its capacity (what was allocated, not what is used). */
 static uint64_t held_bytes(const scene_t *s)
 {
     const prims_t *p = &s->prims;
@@ -127,7 +127,8 @@ static uint64_t held_bytes(const scene_t *s)
            (uint64_t)p->nverts_cap * sizeof *p->verts + (uint64_t)p->ntris_cap * sizeof *p->tris + p->ntris +
            (uint64_t)p->nspheres_cap * sizeof *p->spheres + (uint64_t)p->ncones_cap * sizeof *p->cones +
            (uint64_t)p->npolygons_cap * sizeof *p->polygons + (uint64_t)p->npoly_verts_cap * sizeof *p->poly_verts +
-           (uint64_t)p->npoly_tris * sizeof *p->poly_tris + (uint64_t)p->count * sizeof *s->prim_material;
+           (uint64_t)p->npoly_tris * sizeof *p->poly_tris + (uint64_t)p->count * sizeof *s->prim_material +
+           (s->normals ? (uint64_t)p->nverts_cap * sizeof *s->normals : 0); /* reserved at the store's vertices */
 }
 
 /* The bytes a refusal line names ("need N bytes"), or 0. */
