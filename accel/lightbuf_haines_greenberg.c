@@ -561,6 +561,45 @@ static bool tri_covers(const dv tri[3], const dv d[4])
     return true;
 }
 
+/* Whether polygon g's cone from the light is convex and holds every
+ * direction d[0..3] strictly inside (each on the inner side of every
+ * edge's plane through the light, 1e-7 relative margin); *D is then its
+ * farthest vertex distance. A concave cone is left to the ear triangles
+ * (all four corners in one of them). */
+static bool convex_poly_covers(const prims_t *p, const polygon_t *g, dv L, const dv d[4], double *D)
+{
+    uint32_t n = g->count;
+    dv nrm = dv_of(g->normal);
+    double far = 0, plane = 0;
+    dv axis = {{0, 0, 0}};
+    for (uint32_t k = 0; k < n; k++) {
+        dv v = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
+        far = fmax(far, dv_len(v));
+        plane += dv_dot(nrm, v) / n;
+        axis = dv_madd(axis, v, 1.0 / n);
+    }
+    if (!(fabs(plane) > 1e-9 * far)) return false; /* its plane nearly holds the light */
+    /* The inner side of edge k's plane is the side of the vertex centroid
+     * (inside a convex polygon; the vertex test below refuses the others). */
+    for (uint32_t k = 0; k < n; k++) {
+        dv a = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
+        dv b = dv_sub(dv_of(p->verts[p->poly_verts[g->first + (k + 1) % n]]), L);
+        dv e = dv_cross(a, b);
+        double le = dv_len(e);
+        if (!(le > 0)) return false;
+        double side = dv_dot(e, axis) >= 0 ? 1.0 : -1.0;
+        /* Convex: every vertex on the inner side (or on the plane). */
+        for (uint32_t m = 0; m < n; m++) {
+            dv v = dv_sub(dv_of(p->verts[p->poly_verts[g->first + m]]), L);
+            if (side * dv_dot(e, v) < -1e-9 * le * dv_len(v)) return false;
+        }
+        for (int c = 0; c < 4; c++)
+            if (!(side * dv_dot(e, d[c]) > 1e-7 * le * dv_len(d[c]))) return false;
+    }
+    *D = far;
+    return true;
+}
+
 /* The full-occlusion depth of primitive id over the grown cell whose four
  * corner directions are d (the farthest distance at which every direction
  * of the cell has met it), or +inf when it does not cover the cell. */
@@ -577,6 +616,10 @@ static double cover_depth(const prims_t *p, uint32_t id, dv L, const dv d[4])
         return dist;
     }
     if (p->kind[id] == PRIM_CONE || prim_degenerate(p, id)) return INFINITY;
+    if (p->kind[id] == PRIM_POLYGON) {
+        double D;
+        if (convex_poly_covers(p, &p->polygons[k], L, d, &D)) return D;
+    }
     dv t[LB_MAX_PIECES][3];
     bool more = true;
     for (uint32_t from = 0; more;) {
@@ -881,8 +924,10 @@ static lb_slab prim_slab(const prims_t *p, uint32_t id)
 }
 
 /* The fullocc and single simplifications of one light's sorted cells,
- * then the runs compacted. Returns 0, or -1 out of memory. */
-static int finish_cells(lb_t *t, lb_light *L, const float *occ)
+ * then the runs compacted. Returns 0, -1 out of memory or -2 over the
+ * memory cap with the slabs (err set). */
+static int finish_cells(lb_t *t, lb_light *L, const float *occ, uint64_t cap_mib, uint64_t *used, char *err,
+                        size_t errlen)
 {
     const prims_t *p = t->p;
     uint32_t w = 0, nsingle = 0;
@@ -906,6 +951,9 @@ static int finish_cells(lb_t *t, lb_light *L, const float *occ)
         if (shrunk) L->refs = shrunk;
     }
     if (!nsingle) return 0;
+    *used = memcap_add(*used, memcap_mul(nsingle, sizeof(lb_slab)));
+    if (memcap_exceeded(*used, cap_mib, err, errlen, "the lightbuf lists and single-polygon slabs with its cells and fallback"))
+        return -2;
     L->slabs = malloc((size_t)nsingle * sizeof *L->slabs);
     if (!L->slabs) return -1;
     for (uint32_t c = 0; c < t->ncells; c++) {
@@ -994,8 +1042,8 @@ static int build_light(lb_t *t, lb_light *L, const lb_cullinfo *ci, uint64_t cap
         }
     }
     qsort(L->near, L->nnear, sizeof *L->near, ref_cmp);
-    if (finish_cells(t, L, occ)) goto oom;
-    rc = 0;
+    rc = finish_cells(t, L, occ, cap_mib, used, err, errlen);
+    if (rc == -1) goto oom;
     goto out;
 oom:
     snprintf(err, errlen, "lightbuf: out of memory building the buffer of a light over %u primitives", n);
@@ -1006,12 +1054,20 @@ out:
 
 /* What the build holds before its lists: the cells of every light, the
  * fallback BVH with its build scratch, the per-light scratch. */
-static uint64_t base_bytes(uint64_t n, uint64_t nlights, uint64_t ncells)
+static uint64_t base_bytes(const prims_t *p, uint64_t nlights, uint64_t ncells, bool cull)
 {
+    uint64_t n = p->count;
     uint64_t b = memcap_mul(memcap_mul(nlights, ncells), sizeof(lb_cell));
     b = memcap_add(b, memcap_mul(n ? 2 * n : 1, sizeof(bvh_node)));
     b = memcap_add(b, memcap_mul(n, sizeof(uint32_t) + sizeof(box3) + 2 * sizeof(vec3) + 4 + 1));
-    return memcap_add(b, memcap_mul(ncells, 3 * sizeof(uint32_t)));
+    b = memcap_add(b, memcap_mul(ncells, 3 * sizeof(uint32_t)));
+    if (!cull) return b;
+    /* The cull analysis: per triangle its vertices, owner, three edges,
+     * union-find, flags, component numbers and a copy in double; per
+     * vertex its order and canonical id. */
+    uint64_t ntri = (uint64_t)p->ntris + p->npoly_tris;
+    b = memcap_add(b, memcap_mul(ntri, 12 + 4 + 3 * sizeof(lb_edge) + 4 + 4 + 8 + 3 * sizeof(dv) + 1));
+    return memcap_add(b, memcap_mul(p->nverts, 8));
 }
 
 static int on_off(const accel_params *params, const char *key, bool *out, char *err, size_t errlen)
@@ -1033,7 +1089,7 @@ static accel *lb_build(const scene_t *scene, const accel_params *params, char *e
         return NULL;
     const prims_t *p = &scene->prims;
     const uint32_t ncells = 6 * (uint32_t)res * (uint32_t)res;
-    uint64_t used = base_bytes(p->count, scene->nlights, ncells);
+    uint64_t used = base_bytes(p, scene->nlights, ncells, cull);
     if (memcap_exceeded(used, (uint64_t)memcap, err, errlen,
                         "the lightbuf cells (%u lights x %u) and fallback over %u primitives", scene->nlights, ncells,
                         p->count))
@@ -1193,8 +1249,14 @@ uint32_t lightbuf_debug_cell(const accel *a, uint32_t light, uint32_t cell, uint
                              float *occ, bool *single)
 {
     const lb_t *t = (const lb_t *)a;
-    if (light >= t->nlights || cell >= t->ncells) return 0;
+    if (light >= t->nlights) return 0;
     const lb_light *L = &t->lights[light];
+    if (cell == UINT32_MAX) { /* the near list */
+        for (uint32_t k = 0; k < L->nnear && k < cap; k++) ids[k] = L->near[k].id, depths[k] = L->near[k].depth;
+        *occ = INFINITY, *single = false;
+        return L->nnear;
+    }
+    if (cell >= t->ncells) return 0;
     const lb_cell *c = &L->cells[cell];
     for (uint32_t k = 0; k < c->count && k < cap; k++) ids[k] = L->refs[c->first + k].id, depths[k] = L->refs[c->first + k].depth;
     *occ = c->occ, *single = c->single != LB_NONE;

@@ -9,7 +9,8 @@
  * light `light`'s buffer: its list's primitive ids and depths in list
  * order into ids[] and depths[] (at most cap of them), its full-occlusion
  * depth (+inf for none) and whether it keeps a single-polygon slab.
- * Returns the list's length (which may pass cap); 0 for a bad index. */
+ * Returns the list's length (which may pass cap); 0 for a bad index.
+ * cell UINT32_MAX: the light's near list (occ +inf, single false). */
 uint32_t lightbuf_debug_cell(const accel *a, uint32_t light, uint32_t cell, uint32_t *ids, float *depths, uint32_t cap,
                              float *occ, bool *single);
 
