@@ -82,12 +82,16 @@
  *                 exact position; a component qualifies when every edge
  *                 is used exactly twice, once in each direction (closed,
  *                 consistently oriented: a 2-cycle), when it has at most
- *                 LB_CULL_MAX_TRIS triangles, and when every one of its
- *                 vertices lies behind or on every one of its triangles'
- *                 planes (n . (v - a) <= 1e-10 |n| |v - a|: it is the
- *                 boundary of its convex hull, oriented outward, up to
- *                 that rounding). Its winding number w is then >= 0
- *                 everywhere and 0 outside the hull. For a light at least
+ *                 LB_CULL_MAX_TRIS (4096) triangles, and when every one of
+ *                 its vertices lies behind or on every one of its
+ *                 triangles' planes, up to 1e-6 times the diagonal of its
+ *                 box (float vertices of coplanar faces are never exactly
+ *                 coplanar; planes of triangles of nearly zero area are
+ *                 not checked): it is the boundary of its convex hull,
+ *                 oriented outward, up to that tolerance. Its winding
+ *                 number w is then >= 0 everywhere and 0 outside the hull
+ *                 (a violation would need a fold or pocket thinner than
+ *                 the tolerance). For a light at least
  *                 rho in front of one of its planes (outside the hull, as
  *                 is every point within rho / 4096 of it), a primitive all
  *                 of whose triangles have the light at least rho / 2
@@ -95,8 +99,13 @@
  *                 to the light's end that crosses it goes from w to w + 1
  *                 and must come back to 0, through a triangle it crosses
  *                 from back to front, which faces the light and is listed.
- *                 Non-convex solids (the gears, the bunny) are not culled:
- *                 deciding them soundly needs more than this.
+ *                 Non-convex solids are not culled: the gears, the open
+ *                 bunny, and SPD's tessellated spheres (`:t`), whose split
+ *                 quads fold inward along some diagonals (by up to 7% of
+ *                 the radius); deciding an embedded non-convex surface
+ *                 soundly would need a self-intersection test. So on the
+ *                 measured scenes cull=on culls the boxes of gen:room and
+ *                 little else.
  *   single=on     s6.2's second: "a list of exactly one polygon can be
  *                 deleted, because a polygon cannot occlude itself". That
  *                 holds only for points ON the polygon; a point on another
@@ -191,6 +200,7 @@
 #define LB_UV_ROUND 4e-6            /* dircube_uv's float rounding of W, with room */
 #define LB_DEPTH_SLACK 1e-6         /* relative: depths rounded down, query depths and occ up */
 #define LB_CULL_MAX_TRIS 4096       /* the convexity check is quadratic in a component's size */
+#define LB_CULL_FLAT 1e-6           /* convexity tolerance, relative to a component's box diagonal */
 
 static const accel_param lb_params[] = {
     {"res", "32", "cells per direction-cube face side, 1..1024 (6 res^2 cells per light)"},
@@ -682,18 +692,24 @@ static uint32_t uf_find(uint32_t *parent, uint32_t x)
 }
 
 /* Whether every vertex of the triangles tr[0..n) lies behind or on every
- * one of their planes (up to 1e-10 relative). */
+ * one of their planes, up to LB_CULL_FLAT times the diagonal of their box:
+ * float vertices of coplanar faces (a rotated box's split quads) are never
+ * exactly coplanar. Triangles of (nearly) zero area have no plane to
+ * check. */
 static bool comp_convex(dv (*tr)[3], uint32_t n)
 {
+    dv lo = tr[0][0], hi = tr[0][0];
+    for (uint32_t j = 0; j < n; j++)
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) lo.v[k] = fmin(lo.v[k], tr[j][v].v[k]), hi.v[k] = fmax(hi.v[k], tr[j][v].v[k]);
+    double diag = dv_len(dv_sub(hi, lo)), tol = LB_CULL_FLAT * diag;
     for (uint32_t i = 0; i < n; i++) {
         dv nrm = dv_cross(dv_sub(tr[i][1], tr[i][0]), dv_sub(tr[i][2], tr[i][0]));
         double ln = dv_len(nrm);
-        if (!(ln > 0)) continue;
+        if (!(ln > 1e-12 * diag * diag)) continue;
         for (uint32_t j = 0; j < n; j++)
-            for (int v = 0; v < 3; v++) {
-                dv w = dv_sub(tr[j][v], tr[i][0]);
-                if (dv_dot(nrm, w) > 1e-10 * ln * dv_len(w)) return false;
-            }
+            for (int v = 0; v < 3; v++)
+                if (dv_dot(nrm, dv_sub(tr[j][v], tr[i][0])) > tol * ln) return false;
     }
     return true;
 }

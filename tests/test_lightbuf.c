@@ -17,7 +17,8 @@
  *                solids lose their back faces: an outward cube (indexed,
  *                and with every triangle's own vertices) does, an inward
  *                cube, an open cube, a dented (concave) cube and a cube
- *                around the light do not; answers unchanged
+ *                around the light do not; answers unchanged; gen:room's
+ *                rotated box does (coplanar up to float rounding)
  *   conservative random triangles, spheres, cones and polygons, a light
  *                outside them and one among them, random points: every
  *                primitive that blocks a point's shadow ray is in the
@@ -320,6 +321,17 @@ static void test_cull(void)
         a->ops->destroy(a);
         scene_free(s);
     }
+    /* gen:room, rotated off the axes (its split quads are coplanar only up
+     * to float rounding): its box loses its back faces, its hall (the
+     * lights are inside) does not. */
+    scene_t *s = test_scene("gen:room");
+    accel *a = lb_with(s, "");
+    uint32_t total = 0;
+    for (uint32_t l = 0; l < s->nlights; l++) total += culled(s, a, l);
+    CHECK_MSG(total > 0 && total < 12 * s->nlights, "gen:room: %u culled over %u lights", total, s->nlights);
+    printf("gen:room: %u primitives culled over %u lights\n", total, s->nlights);
+    a->ops->destroy(a);
+    scene_free(s);
 }
 
 /* ------------------------------------------------------- conservative */
