@@ -1024,6 +1024,12 @@ static int build_light(lb_t *t, lb_light *L, const lb_cullinfo *ci, uint64_t cap
     /* Pass 1: count every cell's refs. */
     for (uint32_t id = 0; id < n; id++)
         if (cls[id] == 2) r.id = id, raster_prim(&r, Lp);
+    if (r.total > UINT32_MAX) { /* runs are addressed by 32-bit offsets */
+        snprintf(err, errlen, "lightbuf: %llu cell refs for one light, above 2^32 - 1: lower res",
+                 (unsigned long long)r.total);
+        rc = -2;
+        goto out;
+    }
     uint64_t bytes = memcap_add(memcap_mul(r.total, sizeof(lb_ref)), memcap_mul(L->nnear, sizeof(lb_ref)));
     *used = memcap_add(*used, bytes);
     if (memcap_exceeded(*used, cap_mib, err, errlen, "the lightbuf lists (%llu cell refs) with its cells and fallback",
