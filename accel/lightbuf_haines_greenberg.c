@@ -79,33 +79,36 @@
  *                 listed. Closedness is decided, never assumed: triangles
  *                 and polygons (through their ear triangles) are joined
  *                 into components by shared edges, vertices matched by
- *                 exact position; a component qualifies when every edge
- *                 is used exactly twice, once in each direction (closed,
- *                 consistently oriented: a 2-cycle), when it has at most
- *                 LB_CULL_MAX_TRIS (4096) triangles, and when every one of
- *                 its vertices lies behind or on every one of its
- *                 triangles' planes, up to 1e-6 times the diagonal of its
- *                 box (float vertices of coplanar faces are never exactly
- *                 coplanar; planes of triangles of nearly zero area are
- *                 not checked): it is the boundary of its convex hull,
- *                 oriented outward, up to that tolerance. Its winding
- *                 number w is then >= 0 everywhere and 0 outside the hull
- *                 (a violation would need a fold or pocket thinner than
- *                 the tolerance). For a light at least
- *                 rho in front of one of its planes (outside the hull, as
- *                 is every point within rho / 4096 of it), a primitive all
- *                 of whose triangles have the light at least rho / 2
- *                 behind their planes is culled: a segment from any point
- *                 to the light's end that crosses it goes from w to w + 1
- *                 and must come back to 0, through a triangle it crosses
- *                 from back to front, which faces the light and is listed.
- *                 Non-convex solids are not culled: the gears, the open
- *                 bunny, and SPD's tessellated spheres (`:t`), whose split
- *                 quads fold inward along some diagonals (by up to 7% of
- *                 the radius); deciding an embedded non-convex surface
- *                 soundly would need a self-intersection test. So on the
- *                 measured scenes cull=on culls the boxes of gen:room and
- *                 little else.
+ *                 exact position. A component qualifies when
+ *                   - every edge is used exactly twice, once in each
+ *                     direction (closed and consistently oriented: a
+ *                     2-cycle), its signed volume is positive (outward),
+ *                   - and it is convex (at most LB_CULL_MAX_TRIS = 4096
+ *                     triangles, every vertex behind or on every
+ *                     triangle's plane up to 1e-6 of its box diagonal:
+ *                     float vertices of coplanar faces are never exactly
+ *                     coplanar) or embedded: every two triangles whose
+ *                     boxes overlap meet only where the mesh joins them
+ *                     (apart by 1e-9 of the diagonal along a separating
+ *                     axis; sharing one vertex: split by a plane through
+ *                     it; sharing an edge: not folded onto each other),
+ *                     found through the kit's BVH over their boxes.
+ *                 Its winding number w is then in {0, 1} (embedded,
+ *                 outward) or >= 0 (the boundary of its hull, outward).
+ *                 For a light more than rho from every one of its
+ *                 triangles and outside it (w = 0 by the sum of their
+ *                 solid angles), a primitive all of whose triangles have
+ *                 the light at least rho / 2 behind their planes is
+ *                 culled: a segment from any point to the light's end
+ *                 (within rho / 4096 of the light: outside too) that
+ *                 crosses it goes from w to w + 1 and must come back to 0
+ *                 through a triangle it crosses from back to front, which
+ *                 faces the light and is listed. The closed bunny loses
+ *                 about half its triangles per light; the open or
+ *                 self-intersecting meshes and SPD's polygons that only
+ *                 share positions along T-junctions are left alone.
+ *                 Sound up to the tolerances above: a violation needs a
+ *                 fold, pocket or gap thinner than them.
  *   single=on     s6.2's second: "a list of exactly one polygon can be
  *                 deleted, because a polygon cannot occlude itself". That
  *                 holds only for points ON the polygon; a point on another
@@ -664,6 +667,8 @@ typedef struct {
     uint32_t ncomps;
     uint32_t *cfirst;
     dv (*ctris)[3];
+    uint32_t (*ctv)[3]; /* their vertices' canonical ids (position classes) */
+    bool *ok;           /* [ncomps] the component qualifies */
 } lb_cullinfo;
 
 typedef struct { uint32_t a, b, tri; } lb_edge;
@@ -696,6 +701,13 @@ static uint32_t uf_find(uint32_t *parent, uint32_t x)
  * float vertices of coplanar faces (a rotated box's split quads) are never
  * exactly coplanar. Triangles of (nearly) zero area have no plane to
  * check. */
+static bool comp_volume_positive(dv (*tr)[3], uint32_t n)
+{
+    double vol = 0;
+    for (uint32_t j = 0; j < n; j++) vol += dv_dot(tr[j][0], dv_cross(tr[j][1], tr[j][2]));
+    return vol > 0;
+}
+
 static bool comp_convex(dv (*tr)[3], uint32_t n)
 {
     dv lo = tr[0][0], hi = tr[0][0];
@@ -714,11 +726,193 @@ static bool comp_convex(dv (*tr)[3], uint32_t n)
     return true;
 }
 
+/* --- embedded components: no two triangles meet but where the mesh joins them --- */
+
+/* Whether triangles a and b (no shared vertex) are separated along one of
+ * the axes of the separating axis test (their normals, the cross products
+ * of their edges, and the in-plane normals of every edge, for coplanar
+ * ones) by a gap of more than tol. */
+static bool tris_apart(const dv a[3], const dv b[3], double tol)
+{
+    dv ea[3], eb[3], ax[23];
+    for (int k = 0; k < 3; k++) ea[k] = dv_sub(a[(k + 1) % 3], a[k]), eb[k] = dv_sub(b[(k + 1) % 3], b[k]);
+    dv na = dv_cross(ea[0], ea[1]), nb = dv_cross(eb[0], eb[1]);
+    int n = 0;
+    ax[n++] = na, ax[n++] = nb;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) ax[n++] = dv_cross(ea[i], eb[j]);
+    for (int k = 0; k < 3; k++) ax[n++] = dv_cross(na, ea[k]), ax[n++] = dv_cross(na, eb[k]);
+    for (int k = 0; k < n; k++) {
+        double l = dv_len(ax[k]);
+        if (!(l > 0)) continue;
+        double alo = INFINITY, ahi = -INFINITY, blo = INFINITY, bhi = -INFINITY;
+        for (int v = 0; v < 3; v++) {
+            double x = dv_dot(ax[k], a[v]) / l, y = dv_dot(ax[k], b[v]) / l;
+            alo = fmin(alo, x), ahi = fmax(ahi, x), blo = fmin(blo, y), bhi = fmax(bhi, y);
+        }
+        if (ahi + tol < blo || bhi + tol < alo) return true;
+    }
+    return false;
+}
+
+/* Whether triangles a and b, sharing exactly vertex a[ia] = b[ib], meet
+ * only there: a plane through it has a's other vertices on one side and
+ * b's strictly on the other (by an angle of 1e-7), the candidates being
+ * the separating axis test's (two wedges meeting only at their apex are
+ * separated by such a plane). On the near side a vertex may lie in the
+ * plane (coplanar fans: the separating line runs along an edge). */
+static bool tris_touch_at_vertex(const dv a[3], int ia, const dv b[3], int ib)
+{
+    dv v = a[ia], ra[2], rb[2];
+    for (int k = 0, m = 0; k < 3; k++)
+        if (k != ia) ra[m++] = dv_sub(a[k], v);
+    for (int k = 0, m = 0; k < 3; k++)
+        if (k != ib) rb[m++] = dv_sub(b[k], v);
+    dv ea[3] = {ra[0], ra[1], dv_sub(ra[1], ra[0])}, eb[3] = {rb[0], rb[1], dv_sub(rb[1], rb[0])};
+    dv na = dv_cross(ra[0], ra[1]), nb = dv_cross(rb[0], rb[1]), ax[2 + 9 + 12];
+    int n = 0;
+    ax[n++] = na, ax[n++] = nb;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) ax[n++] = dv_cross(ea[i], eb[j]);
+    for (int k = 0; k < 3; k++)
+        ax[n++] = dv_cross(na, ea[k]), ax[n++] = dv_cross(na, eb[k]), ax[n++] = dv_cross(nb, ea[k]),
+        ax[n++] = dv_cross(nb, eb[k]);
+    for (int k = 0; k < n; k++) {
+        double l = dv_len(ax[k]);
+        if (!(l > 0)) continue;
+        double amax = -INFINITY, amin = INFINITY, bmax = -INFINITY, bmin = INFINITY;
+        for (int m = 0; m < 2; m++) {
+            double x = dv_dot(ax[k], ra[m]) / (l * dv_len(ra[m])), y = dv_dot(ax[k], rb[m]) / (l * dv_len(rb[m]));
+            amax = fmax(amax, x), amin = fmin(amin, x), bmax = fmax(bmax, y), bmin = fmin(bmin, y);
+        }
+        /* a below (touching allowed) and b strictly above, or the mirror. */
+        if ((amax <= 1e-12 && bmin > 1e-7) || (bmax <= 1e-12 && amin > 1e-7) || (amin >= -1e-12 && bmax < -1e-7) ||
+            (bmin >= -1e-12 && amax < -1e-7))
+            return true;
+    }
+    return false;
+}
+
+/* Whether triangles a and b, sharing the edge from a[i] to a[(i+1)%3],
+ * meet only along it: their third vertices, seen across the edge, are
+ * not folded onto one another (an angle of more than 1e-7 apart). */
+static bool tris_touch_at_edge(const dv a[3], int i, const dv b[3])
+{
+    dv p = a[i], e = dv_sub(a[(i + 1) % 3], p);
+    dv ca = a[(i + 2) % 3], cb = b[0];
+    /* b's vertex off the shared edge: the one equal to neither end. */
+    for (int k = 0; k < 3; k++) {
+        bool on = !memcmp(&b[k], &a[i], sizeof(dv)) || !memcmp(&b[k], &a[(i + 1) % 3], sizeof(dv));
+        if (!on) cb = b[k];
+    }
+    double ee = dv_dot(e, e);
+    if (!(ee > 0)) return false;
+    dv wa = dv_sub(ca, p), wb = dv_sub(cb, p);
+    dv pa = dv_madd(wa, e, -dv_dot(wa, e) / ee), pb = dv_madd(wb, e, -dv_dot(wb, e) / ee);
+    double la = dv_len(pa), lb = dv_len(pb);
+    if (!(la > 0 && lb > 0)) return false;
+    return dv_dot(pa, pb) / (la * lb) < 1.0 - 1e-13;
+}
+
+/* The canonical-id vertices the two triangles share: how many, and for
+ * one shared vertex its index in each. */
+static int shared_vertices(const uint32_t a[3], const uint32_t b[3], int *ia, int *ib)
+{
+    int n = 0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            if (a[i] == b[j]) n++, *ia = i, *ib = j;
+    return n;
+}
+
+/* The pair i, j of a component passes when it meets only where the mesh
+ * joins it (see the three tests above). */
+static bool pair_ok(dv (*tr)[3], uint32_t (*tv)[3], uint32_t i, uint32_t j, double tol)
+{
+    int ia = 0, ib = 0, shared = shared_vertices(tv[i], tv[j], &ia, &ib);
+    if (shared == 0) return tris_apart(tr[i], tr[j], tol);
+    if (shared == 1) return tris_touch_at_vertex(tr[i], ia, tr[j], ib);
+    if (shared == 2) {
+        /* The shared edge of a: the two of its vertices in b. */
+        for (int k = 0; k < 3; k++) {
+            int x, y;
+            bool k_in = shared_vertices((uint32_t[3]){tv[i][k], tv[i][k], tv[i][k]}, tv[j], &x, &y) > 0;
+            bool k1_in = shared_vertices((uint32_t[3]){tv[i][(k + 1) % 3], tv[i][(k + 1) % 3], tv[i][(k + 1) % 3]},
+                                         tv[j], &x, &y) > 0;
+            if (k_in && k1_in) return tris_touch_at_edge(tr[i], k, tr[j]);
+        }
+    }
+    return false;
+}
+
+/* Whether the closed component of triangles tr[0..n) is embedded: every
+ * pair whose boxes (grown by tol) overlap meets only at the vertices and
+ * edges they share, non-adjacent ones at least tol apart; found through
+ * the kit's BVH over the grown boxes. Its signed volume must also be
+ * positive (outward). false out of memory too (not culling is safe). */
+static bool comp_embedded(dv (*tr)[3], uint32_t (*tv)[3], uint32_t n)
+{
+    dv lo = tr[0][0], hi = tr[0][0];
+    double vol = 0;
+    for (uint32_t j = 0; j < n; j++) {
+        vol += dv_dot(tr[j][0], dv_cross(tr[j][1], tr[j][2]));
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) lo.v[k] = fmin(lo.v[k], tr[j][v].v[k]), hi.v[k] = fmax(hi.v[k], tr[j][v].v[k]);
+    }
+    double diag = dv_len(dv_sub(hi, lo)), tol = 1e-9 * diag;
+    if (!(vol > 1e-12 * diag * diag * diag)) return false;
+    box3 *boxes = malloc((size_t)n * sizeof *boxes);
+    uint32_t *stack = NULL;
+    bvh_t b = {0};
+    bool ok = false;
+    if (!boxes) return false;
+    for (uint32_t j = 0; j < n; j++) {
+        box3 x = box_empty();
+        for (int v = 0; v < 3; v++) {
+            vec3 q = v3((float)tr[j][v].v[0], (float)tr[j][v].v[1], (float)tr[j][v].v[2]);
+            x = box_grow(x, q);
+        }
+        float g = (float)(2 * tol) + 1e-30f;
+        x.lo = v3(nextafterf(x.lo.x - g, -INFINITY), nextafterf(x.lo.y - g, -INFINITY), nextafterf(x.lo.z - g, -INFINITY));
+        x.hi = v3(nextafterf(x.hi.x + g, INFINITY), nextafterf(x.hi.y + g, INFINITY), nextafterf(x.hi.z + g, INFINITY));
+        boxes[j] = x;
+    }
+    bvh_config cfg;
+    bvh_config_defaults(&cfg);
+    if (bvh_build_sah(&b, boxes, NULL, n, &cfg) || !b.nnodes) goto out;
+    stack = malloc(((size_t)b.max_depth + 2) * 2 * sizeof *stack);
+    if (!stack) goto out;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t top = 0;
+        stack[top++] = 0;
+        while (top) {
+            const bvh_node *nd = &b.nodes[stack[--top]];
+            if (!box_overlap(nd->box, boxes[i])) continue;
+            if (nd->count == 0) {
+                stack[top++] = nd->index, stack[top++] = nd->index + 1;
+                continue;
+            }
+            for (uint32_t k = 0; k < nd->count; k++) {
+                uint32_t j = b.refs[nd->index + k];
+                if (j > i && box_overlap(boxes[i], boxes[j]) && !pair_ok(tr, tv, i, j, tol)) goto out;
+            }
+        }
+    }
+    ok = true;
+out:
+    free(boxes);
+    free(stack);
+    bvh_free(&b);
+    return ok;
+}
+
 static void cullinfo_free(lb_cullinfo *ci)
 {
     free(ci->comp);
     free(ci->cfirst);
     free(ci->ctris);
+    free(ci->ctv);
+    free(ci->ok);
     memset(ci, 0, sizeof *ci);
 }
 
@@ -795,7 +989,7 @@ static int cullinfo_build(const prims_t *p, lb_cullinfo *ci)
     uint32_t nc = 0;
     for (uint32_t t = 0; t < ntri; t++) cid[t] = LB_NONE;
     for (uint32_t t = 0; t < ntri; t++)
-        if (parent[t] == t && !bad[t] && csize[t] <= LB_CULL_MAX_TRIS) cid[t] = nc++;
+        if (parent[t] == t && !bad[t]) cid[t] = nc++;
     ci->cfirst = calloc((size_t)nc + 2, sizeof *ci->cfirst);
     uint32_t total = 0;
     for (uint32_t t = 0; t < ntri; t++) {
@@ -803,7 +997,9 @@ static int cullinfo_build(const prims_t *p, lb_cullinfo *ci)
         if (c != LB_NONE) ci->cfirst[c + 1]++, total++;
     }
     ci->ctris = malloc(((size_t)total + 1) * sizeof *ci->ctris);
-    if (!ci->cfirst || !ci->ctris) {
+    ci->ctv = malloc(((size_t)total + 1) * sizeof *ci->ctv);
+    ci->ok = calloc((size_t)nc + 1, sizeof *ci->ok);
+    if (!ci->cfirst || !ci->ctris || !ci->ctv || !ci->ok) {
         free(cid), free(csize);
         goto out;
     }
@@ -812,26 +1008,24 @@ static int cullinfo_build(const prims_t *p, lb_cullinfo *ci)
     for (uint32_t t = 0; t < ntri; t++) {
         uint32_t c = cid[uf_find(parent, t)];
         if (c == LB_NONE) continue;
-        dv *dst = ci->ctris[ci->cfirst[c] + csize[c]++];
-        for (int v = 0; v < 3; v++) dst[v] = dv_of(p->verts[tv[3 * t + v]]);
+        uint32_t slot = ci->cfirst[c] + csize[c]++;
+        for (int v = 0; v < 3; v++) ci->ctris[slot][v] = dv_of(p->verts[tv[3 * t + v]]), ci->ctv[slot][v] = canon[tv[3 * t + v]];
     }
     ci->ncomps = nc;
-    bool *convex = malloc(((size_t)nc + 1) * sizeof *convex);
-    if (!convex) {
-        free(cid), free(csize);
-        goto out;
+    /* Convex (small components: the check is quadratic), else embedded. */
+    for (uint32_t c = 0; c < nc; c++) {
+        uint32_t f = ci->cfirst[c], m = ci->cfirst[c + 1] - f;
+        ci->ok[c] = (m <= LB_CULL_MAX_TRIS && comp_convex(&ci->ctris[f], m) && comp_volume_positive(&ci->ctris[f], m)) ||
+                    comp_embedded(&ci->ctris[f], &ci->ctv[f], m);
     }
-    for (uint32_t c = 0; c < nc; c++) convex[c] = comp_convex(&ci->ctris[ci->cfirst[c]], ci->cfirst[c + 1] - ci->cfirst[c]);
-    /* A primitive qualifies when all its triangles are in one convex component. */
+    /* A primitive qualifies when all its triangles are in one qualifying component. */
     for (uint32_t t = 0; t < ntri; t++) {
         uint32_t c = cid[uf_find(parent, t)], id = owner[t];
-        uint32_t want = c != LB_NONE && convex[c] ? c : LB_NONE;
+        uint32_t want = c != LB_NONE && ci->ok[c] ? c : LB_NONE;
         bool first = t == 0 || owner[t - 1] != id;
         if (first) ci->comp[id] = want;
         else if (ci->comp[id] != want) ci->comp[id] = LB_NONE;
     }
-    /* A triangle that belongs to no primitive would be a bug above: none. */
-    free(convex);
     free(cid);
     free(csize);
     rc = 0;
@@ -841,19 +1035,35 @@ out:
     return rc;
 }
 
-/* Per light: which components have the light at least rho in front of one
- * of their planes (outside; see the header). */
+/* The solid angle of triangle abc (relative to the viewpoint) over 4 pi,
+ * signed by its winding (Van Oosterom and Strackee's formula). */
+static double solid_fraction(dv a, dv b, dv c)
+{
+    double la = dv_len(a), lb = dv_len(b), lc = dv_len(c);
+    double num = dv_dot(a, dv_cross(b, c));
+    double den = la * lb * lc + dv_dot(a, b) * lc + dv_dot(a, c) * lb + dv_dot(b, c) * la;
+    return atan2(num, den) / (2 * M_PI);
+}
+
+/* Per light: which qualifying components the light lies outside of, more
+ * than rho from every triangle (so every point within rho / 4096 of the
+ * light is outside too): the winding number, the sum of the triangles'
+ * solid angles over 4 pi, is 0 (within 1/4) there, 1 inside. */
 static bool *cull_outside(const lb_cullinfo *ci, dv L, double rho)
 {
     bool *out = calloc((size_t)ci->ncomps + 1, sizeof *out);
     if (!out) return NULL;
-    for (uint32_t c = 0; c < ci->ncomps; c++)
-        for (uint32_t t = ci->cfirst[c]; t < ci->cfirst[c + 1] && !out[c]; t++) {
+    for (uint32_t c = 0; c < ci->ncomps; c++) {
+        if (!ci->ok[c]) continue;
+        double w = 0, dmin = INFINITY;
+        for (uint32_t t = ci->cfirst[c]; t < ci->cfirst[c + 1]; t++) {
             dv *tr = ci->ctris[t];
-            dv n = dv_cross(dv_sub(tr[1], tr[0]), dv_sub(tr[2], tr[0]));
-            double ln = dv_len(n);
-            if (ln > 0 && dv_dot(n, dv_sub(L, tr[0])) > rho * ln) out[c] = true;
+            dv a = dv_sub(tr[0], L), b = dv_sub(tr[1], L), d = dv_sub(tr[2], L);
+            w += solid_fraction(a, b, d);
+            dmin = fmin(dmin, dist_point_triangle(L, tr[0], tr[1], tr[2]));
         }
+        out[c] = fabs(w) < 0.25 && dmin > rho;
+    }
     return out;
 }
 
@@ -1088,7 +1298,10 @@ static uint64_t base_bytes(const prims_t *p, uint64_t nlights, uint64_t ncells, 
      * union-find, flags, component numbers and a copy in double; per
      * vertex its order and canonical id. */
     uint64_t ntri = (uint64_t)p->ntris + p->npoly_tris;
-    b = memcap_add(b, memcap_mul(ntri, 12 + 4 + 3 * sizeof(lb_edge) + 4 + 4 + 8 + 3 * sizeof(dv) + 1));
+    b = memcap_add(b, memcap_mul(ntri, 12 + 4 + 3 * sizeof(lb_edge) + 4 + 4 + 8 + 3 * sizeof(dv) + 12 + 1));
+    /* The embedded test's BVH over the component's boxes (the largest
+     * component is at most every triangle). */
+    b = memcap_add(b, memcap_mul(ntri, sizeof(box3) + 2 * sizeof(bvh_node) + 4 + 8 + 2 * sizeof(vec3) + 12));
     return memcap_add(b, memcap_mul(p->nverts, 8));
 }
 

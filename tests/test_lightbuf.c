@@ -13,12 +13,15 @@
  *                behind it is in shadow (the list of one is never simply
  *                dropped), and with a second primitive behind it the cell
  *                is no longer single and a point on that one is shadowed
- *   cull         only closed, consistently oriented, outward convex
- *                solids lose their back faces: an outward cube (indexed,
- *                and with every triangle's own vertices) does, an inward
- *                cube, an open cube, a dented (concave) cube and a cube
- *                around the light do not; answers unchanged; gen:room's
- *                rotated box does (coplanar up to float rounding)
+ *   cull         only closed, consistently oriented, outward solids that
+ *                are convex or embedded (no self-intersection) lose their
+ *                back faces, for a light outside: an outward cube
+ *                (indexed, and with every triangle's own vertices) and a
+ *                dented (concave) cube do; an inward cube, an open cube, a
+ *                folded (self-intersecting) cube and a cube around the
+ *                light do not; answers unchanged; gen:room's rotated box
+ *                does (coplanar up to float rounding); the closed bunny
+ *                does
  *   conservative random triangles, spheres, cones and polygons, a light
  *                outside them and one among them, random points: every
  *                primitive that blocks a point's shadow ray is in the
@@ -240,11 +243,13 @@ static void test_single(void)
 
 /* --------------------------------------------------------------- cull */
 
-enum { CUBE_OUT, CUBE_IN, CUBE_OPEN, CUBE_DENTED, CUBE_SPLIT };
+enum { CUBE_OUT, CUBE_IN, CUBE_OPEN, CUBE_DENTED, CUBE_SPLIT, CUBE_FOLDED };
 
 /* A unit cube at lo: outward or inward wound, open (no top), dented (the
- * top made of four triangles to a centre pushed in), or with every
- * triangle on its own vertices (matched by position). */
+ * top made of four triangles to a centre pushed in: concave, embedded),
+ * with every triangle on its own vertices (matched by position), or
+ * folded (one corner pushed through the bottom: closed and outward by its
+ * volume, but self-intersecting). */
 static void cube(scene_t *s, vec3 lo, int how)
 {
     prims_t *p = &s->prims;
@@ -252,6 +257,7 @@ static void cube(scene_t *s, vec3 lo, int how)
     uint32_t v[8];
     for (int i = 0; i < 8; i++) {
         c[i] = v3(lo.x + (i & 1), lo.y + ((i >> 1) & 1), lo.z + ((i >> 2) & 1));
+        if (i == 7 && how == CUBE_FOLDED) c[i] = v3(lo.x + 0.3f, lo.y + 0.4f, lo.z - 0.7f);
         v[i] = prims_add_vertex(p, c[i]);
     }
     /* Outward (right-handed normals pointing out). */
@@ -303,7 +309,11 @@ static void test_cull(void)
         {CUBE_SPLIT, {5, 6, 7}, 6, "outward cube, every triangle on its own vertices"},
         {CUBE_IN, {5, 6, 7}, 0, "inward cube"},
         {CUBE_OPEN, {5, 6, 7}, 0, "open cube"},
-        {CUBE_DENTED, {5, 6, 7}, 0, "dented (concave) cube"},
+        {CUBE_DENTED, {5, 6, 7}, 6, "dented (concave, embedded) cube"},
+        {CUBE_FOLDED, {5, 6, 7}, 0, "folded (self-intersecting) cube"},
+        /* In the dent: outside the solid, inside its hull; the bottom and
+         * the four sides face away, the dent's four faces toward it. */
+        {CUBE_DENTED, {0.5f, 0.5f, 0.9f}, 10, "dented cube with the light in its dent"},
         {CUBE_OUT, {0.5f, 0.4f, 0.3f}, 0, "outward cube around the light"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -330,6 +340,15 @@ static void test_cull(void)
     for (uint32_t l = 0; l < s->nlights; l++) total += culled(s, a, l);
     CHECK_MSG(total > 0 && total < 12 * s->nlights, "gen:room: %u culled over %u lights", total, s->nlights);
     printf("gen:room: %u primitives culled over %u lights\n", total, s->nlights);
+    a->ops->destroy(a);
+    scene_free(s);
+    /* The bunny, closed and embedded (non-convex): about half its triangles
+     * face away from each light. */
+    s = test_scene("bunny");
+    a = lb_with(s, "");
+    total = culled(s, a, 0);
+    CHECK_MSG(total > s->prims.count / 4 && total < s->prims.count, "bunny: %u of %u culled", total, s->prims.count);
+    printf("bunny: %u of %u triangles culled for light 0\n", total, s->prims.count);
     a->ops->destroy(a);
     scene_free(s);
 }
