@@ -180,9 +180,11 @@
  * lights other than points, the surface-orientation test of the shading
  * point (the workloads spawn no shadow ray from a surface facing away,
  * spawn.h), enclosed polygonal meshes for curved surfaces' full occlusion
- * (spheres use their exact cone; cones none), culling of non-convex closed
- * solids, per-cell minimum depths (the list is keyed by the primitive's
- * distance from the light over all its points). */
+ * (spheres use their exact cone; cones none), culling of closed solids
+ * that are neither convex nor embedded (or of spheres, cones and open
+ * meshes: nothing closed to decide), per-cell minimum depths (the list is
+ * keyed by the primitive's distance from the light over all its points),
+ * a res=auto rule. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -207,7 +209,7 @@
 
 static const accel_param lb_params[] = {
     {"res", "32", "cells per direction-cube face side, 1..1024 (6 res^2 cells per light)"},
-    {"cull", "on", "on|off: drop polygons facing away from the light on closed convex solids (decided soundly)"},
+    {"cull", "on", "on|off: drop polygons facing away from the light on closed solids (convex or embedded, decided soundly)"},
     {"single", "on", "on|off: a cell listing one polygon skips its test when the segment stays on one side of it"},
     {"fullocc", "on", "on|off: full-occlusion records: points beyond a primitive covering the cell are in shadow"},
     {"memcap", "4096", "MiB: refuse a build whose cells, lists and fallback exceed it"},
