@@ -795,54 +795,52 @@ static bool tris_touch_at_vertex(const dv a[3], int ia, const dv b[3], int ib)
     return false;
 }
 
-/* Whether triangles a and b, sharing the edge from a[i] to a[(i+1)%3],
- * meet only along it: their third vertices, seen across the edge, are
- * not folded onto one another (an angle of more than 1e-7 apart). */
-static bool tris_touch_at_edge(const dv a[3], int i, const dv b[3])
+/* Whether triangles a and b, sharing the edge from a[i] to a[(i+1)%3]
+ * (b's vertex off it is b[jb]), meet only along it: their third vertices,
+ * seen across the edge, are not folded onto one another (more than about
+ * 1e-6 radians apart). */
+static bool tris_touch_at_edge(const dv a[3], int i, const dv b[3], int jb)
 {
     dv p = a[i], e = dv_sub(a[(i + 1) % 3], p);
-    dv ca = a[(i + 2) % 3], cb = b[0];
-    /* b's vertex off the shared edge: the one equal to neither end. */
-    for (int k = 0; k < 3; k++) {
-        bool on = !memcmp(&b[k], &a[i], sizeof(dv)) || !memcmp(&b[k], &a[(i + 1) % 3], sizeof(dv));
-        if (!on) cb = b[k];
-    }
     double ee = dv_dot(e, e);
     if (!(ee > 0)) return false;
-    dv wa = dv_sub(ca, p), wb = dv_sub(cb, p);
+    dv wa = dv_sub(a[(i + 2) % 3], p), wb = dv_sub(b[jb], p);
     dv pa = dv_madd(wa, e, -dv_dot(wa, e) / ee), pb = dv_madd(wb, e, -dv_dot(wb, e) / ee);
     double la = dv_len(pa), lb = dv_len(pb);
     if (!(la > 0 && lb > 0)) return false;
-    return dv_dot(pa, pb) / (la * lb) < 1.0 - 1e-13;
+    return dv_dot(pa, pb) / (la * lb) < 1.0 - 1e-12;
 }
 
-/* The canonical-id vertices the two triangles share: how many, and for
- * one shared vertex its index in each. */
-static int shared_vertices(const uint32_t a[3], const uint32_t b[3], int *ia, int *ib)
+/* How many of b's vertices (canonical ids) are among a's; *ia, *ib: the
+ * last such pair's indices, *off: the last vertex of b that is not. */
+static int shared_vertices(const uint32_t a[3], const uint32_t b[3], int *ia, int *ib, int *off)
 {
     int n = 0;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            if (a[i] == b[j]) n++, *ia = i, *ib = j;
+    for (int j = 0; j < 3; j++) {
+        bool in = false;
+        for (int i = 0; i < 3; i++)
+            if (a[i] == b[j]) in = true, *ia = i, *ib = j;
+        n += in;
+        if (!in) *off = j;
+    }
     return n;
 }
 
 /* The pair i, j of a component passes when it meets only where the mesh
- * joins it (see the three tests above). */
+ * joins it (see the three tests above). A triangle with a repeated vertex
+ * fails against its neighbours (not culling is safe). */
 static bool pair_ok(dv (*tr)[3], uint32_t (*tv)[3], uint32_t i, uint32_t j, double tol)
 {
-    int ia = 0, ib = 0, shared = shared_vertices(tv[i], tv[j], &ia, &ib);
+    int ia = 0, ib = 0, off = 0;
+    int shared = shared_vertices(tv[i], tv[j], &ia, &ib, &off);
     if (shared == 0) return tris_apart(tr[i], tr[j], tol);
     if (shared == 1) return tris_touch_at_vertex(tr[i], ia, tr[j], ib);
-    if (shared == 2) {
-        /* The shared edge of a: the two of its vertices in b. */
-        for (int k = 0; k < 3; k++) {
-            int x, y;
-            bool k_in = shared_vertices((uint32_t[3]){tv[i][k], tv[i][k], tv[i][k]}, tv[j], &x, &y) > 0;
-            bool k1_in = shared_vertices((uint32_t[3]){tv[i][(k + 1) % 3], tv[i][(k + 1) % 3], tv[i][(k + 1) % 3]},
-                                         tv[j], &x, &y) > 0;
-            if (k_in && k1_in) return tris_touch_at_edge(tr[i], k, tr[j]);
-        }
+    if (shared != 2) return false;
+    /* The edge of a whose two ends are both b's. */
+    for (int k = 0; k < 3; k++) {
+        uint32_t x = tv[i][k], y = tv[i][(k + 1) % 3];
+        bool xin = x == tv[j][0] || x == tv[j][1] || x == tv[j][2], yin = y == tv[j][0] || y == tv[j][1] || y == tv[j][2];
+        if (xin && yin && x != y) return tris_touch_at_edge(tr[i], k, tr[j], off);
     }
     return false;
 }
