@@ -73,7 +73,16 @@
  *
  * Parameters (defaults; every switch defaults to on, because each is
  * implemented only in the form proven sound below):
- *   res=32        cells per face side, 1..1024 (6 res^2 cells per light).
+ *   res=32        cells per face side, 1..1024 (6 res^2 cells per light),
+ *                 or auto: about 4 primitives a cell where the scene is
+ *                 seen: the primitives' centres binned on a coarse cube
+ *                 with N / 4 cells in all, O of them occupied, give
+ *                 res = G sqrt(N / (4 O)) (G the coarse side), the largest
+ *                 over the lights, within 8..512. A rule of thumb, not the
+ *                 paper's (which gives none): from far lights a scene is a
+ *                 few cells wide at res 32, each holding a large part of
+ *                 it, and every lit point behind tests them all (spd:tree,
+ *                 7 far lights: over a thousand tests a ray at res=32).
  *   cull=on       s6.2's first simplification: polygons facing away from
  *                 the light that are part of closed opaque solids are not
  *                 listed. Closedness is decided, never assumed: triangles
@@ -184,7 +193,8 @@
  * that are neither convex nor embedded (or of spheres, cones and open
  * meshes: nothing closed to decide), per-cell minimum depths (the list is
  * keyed by the primitive's distance from the light over all its points),
- * a res=auto rule. */
+ * a resolution of its own for each light, adaptive subdivision of the
+ * faces (survey fig. 18(c)). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -208,7 +218,7 @@
 #define LB_CULL_FLAT 1e-6           /* convexity tolerance, relative to a component's box diagonal */
 
 static const accel_param lb_params[] = {
-    {"res", "32", "cells per direction-cube face side, 1..1024 (6 res^2 cells per light)"},
+    {"res", "32", "cells per direction-cube face side, 1..1024 (6 res^2 cells per light), or auto (from the scene's size)"},
     {"cull", "on", "on|off: drop polygons facing away from the light on closed solids (convex or embedded, decided soundly)"},
     {"single", "on", "on|off: a cell listing one polygon skips its test when the segment stays on one side of it"},
     {"fullocc", "on", "on|off: full-occlusion records: points beyond a primitive covering the cell are in shadow"},
@@ -603,13 +613,20 @@ static bool convex_poly_covers(const prims_t *p, const polygon_t *g, dv L, const
         double le = dv_len(e);
         if (!(le > 0)) return false;
         double side = dv_dot(e, axis) >= 0 ? 1.0 : -1.0;
-        /* Convex: every vertex on the inner side (or on the plane). */
+        for (int c = 0; c < 4; c++)
+            if (!(side * dv_dot(e, d[c]) > 1e-7 * le * dv_len(d[c]))) return false;
+    }
+    /* Convex: every vertex on the inner side of every edge's plane (or on
+     * it); checked last, as few cells get this far. */
+    for (uint32_t k = 0; k < n; k++) {
+        dv a = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
+        dv b = dv_sub(dv_of(p->verts[p->poly_verts[g->first + (k + 1) % n]]), L);
+        dv e = dv_cross(a, b);
+        double le = dv_len(e), side = dv_dot(e, axis) >= 0 ? 1.0 : -1.0;
         for (uint32_t m = 0; m < n; m++) {
             dv v = dv_sub(dv_of(p->verts[p->poly_verts[g->first + m]]), L);
             if (side * dv_dot(e, v) < -1e-9 * le * dv_len(v)) return false;
         }
-        for (int c = 0; c < 4; c++)
-            if (!(side * dv_dot(e, d[c]) > 1e-7 * le * dv_len(d[c]))) return false;
     }
     *D = far;
     return true;
@@ -1314,11 +1331,52 @@ static int on_off(const accel_params *params, const char *key, bool *out, char *
     return 0;
 }
 
+/* res=auto (see the header): per light, the primitives' centres are
+ * binned on a coarse cube of G x G cells a face, 6 G^2 = N / 4 (about 4 a
+ * cell were they spread over every direction); with O of its cells
+ * occupied, N / O primitives a cell there, the resolution at which that
+ * becomes LB_AUTO_PER_CELL is G sqrt(N / (4 O)). The largest over the
+ * lights, within 8..LB_AUTO_MAX. 0 out of memory. */
+#define LB_AUTO_PER_CELL 4.0
+#define LB_AUTO_MAX 512
+static long auto_res(const scene_t *scene)
+{
+    const prims_t *p = &scene->prims;
+    double n = p->count;
+    uint32_t g = (uint32_t)fmax(1.0, fmin(256.0, ceil(sqrt(n / (6.0 * LB_AUTO_PER_CELL)))));
+    uint8_t *seen = malloc(6 * (size_t)g * g);
+    if (!seen) return 0;
+    double best = 8;
+    for (uint32_t l = 0; l < scene->nlights; l++) {
+        memset(seen, 0, 6 * (size_t)g * g);
+        double occupied = 0;
+        for (uint32_t id = 0; id < p->count; id++) {
+            vec3 w = v3_sub(box_center(prim_bounds(p, id)), scene->lights[l]);
+            int f = dircube_face(w);
+            float u, v;
+            dircube_uv(w, f, &u, &v);
+            uint32_t i = (uint32_t)fmin(g - 1, fmax(0.0, floor((u + 1.0) * 0.5 * g)));
+            uint32_t j = (uint32_t)fmin(g - 1, fmax(0.0, floor((v + 1.0) * 0.5 * g)));
+            uint8_t *cell = &seen[((size_t)f * g + j) * g + i];
+            occupied += !*cell;
+            *cell = 1;
+        }
+        best = fmax(best, g * sqrt(n / (LB_AUTO_PER_CELL * occupied)));
+    }
+    free(seen);
+    return (long)fmin(ceil(best), LB_AUTO_MAX);
+}
+
 static accel *lb_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
     long res, memcap;
     bool cull, single, fullocc;
-    if (params_get_long(params, "res", 1, LB_RES_MAX, &res, err, errlen) || on_off(params, "cull", &cull, err, errlen) ||
+    bool is_auto = strcmp(params_get(params, "res"), "auto") == 0;
+    if (is_auto && !(res = auto_res(scene))) {
+        snprintf(err, errlen, "lightbuf: out of memory choosing res=auto");
+        return NULL;
+    }
+    if ((!is_auto && params_get_long(params, "res", 1, LB_RES_MAX, &res, err, errlen)) || on_off(params, "cull", &cull, err, errlen) ||
         on_off(params, "single", &single, err, errlen) || on_off(params, "fullocc", &fullocc, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
         return NULL;
@@ -1516,6 +1574,7 @@ static const char *const lb_variants[] = {
     "res=1",
     "res=7,fullocc=off",
     "res=128",
+    "res=auto",
     NULL,
 };
 

@@ -29,6 +29,8 @@
  *                every setting answers as testing every primitive does,
  *                counting and counting-free, also for any-hit rays that
  *                carry a light but do not end at it (the fallback)
+ *   auto         res=auto: a fine cube for a far cluster, a coarse one
+ *                for the same cluster around the light
  *   refusals     memcap, res out of range, a bad switch value */
 #include <string.h>
 #include "accel/common/dircube.h"
@@ -418,7 +420,7 @@ static void test_conservative(void)
     /* Every setting answers as testing every primitive, counting and not,
      * on shadow rays and on any-hit rays that carry a light but do not
      * end at it. */
-    static const char *const settings[] = {"", "cull=off", "single=off", "fullocc=off", "res=1", "res=5", "res=64"};
+    static const char *const settings[] = {"", "cull=off", "single=off", "fullocc=off", "res=1", "res=5", "res=64", "res=auto"};
     for (size_t k = 0; k < sizeof settings / sizeof settings[0]; k++) {
         accel *a = lb_with(s, settings[k]);
         int wrong = 0, fast_wrong = 0;
@@ -438,6 +440,33 @@ static void test_conservative(void)
         a->ops->destroy(a);
     }
     scene_free(s);
+}
+
+/* res=auto: about four primitives a cell where the scene is seen. A
+ * cluster far from the light gets a fine cube, the same cluster around
+ * the light a coarse one. */
+static void test_auto(void)
+{
+    uint32_t res[2];
+    for (int k = 0; k < 2; k++) {
+        scene_t *s = scene_new("auto");
+        for (int i = 0; i < 2000; i++) {
+            vec3 c = v3(srand1(), srand1(), srand1());
+            tri(s, c, v3_add(c, v3(0.01f, 0, 0)), v3_add(c, v3(0, 0.01f, 0)));
+        }
+        scene_add_light(s, k ? v3(0.01f, 0.02f, 0.03f) : v3(40, 30, 20));
+        finish(s);
+        accel *a = lb_with(s, "res=auto");
+        uint32_t nnear, nculled;
+        double rho;
+        lightbuf_debug_light(a, 0, &res[k], &nnear, &nculled, &rho);
+        a->ops->destroy(a);
+        scene_free(s);
+    }
+    /* Far: 2000 centres within a few of the coarse cube's 500 cells; around: all 6 faces' ~500. */
+    CHECK_MSG(res[0] >= 100 && res[0] <= 512, "far cluster: res=auto chose %u", res[0]);
+    CHECK_MSG(res[1] >= 8 && res[1] <= 16, "cluster around the light: res=auto chose %u", res[1]);
+    printf("res=auto: %u for a far cluster, %u around the light\n", res[0], res[1]);
 }
 
 /* ----------------------------------------------------------- refusals */
@@ -479,6 +508,7 @@ int main(void)
     test_single();
     test_cull();
     test_conservative();
+    test_auto();
     test_refusals();
     return check_report();
 }
