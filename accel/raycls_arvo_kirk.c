@@ -573,11 +573,16 @@ static int rc_classify(const rc_t *r, const ray_t *ray, rc_ray *q)
 }
 
 /* The largest value along the face's direction of the ray's points over
- * [tnear, t]: at t, as the face's component of dir has the face's sign. */
-static double rc_reach(const rc_ray *q, float t)
+ * [tnear, t]: at t, as the face's component of dir has the face's sign;
+ * plus a slack, as a primitive's hit t is computed in float: a primitive
+ * whose exact hit lies just past t may return a float t just before it
+ * (exhaustive search would take it), so the stop waits until the next
+ * minimum extent is clearly beyond (pad: some 16 ulps at the scene's scale,
+ * and 1e-6 of the distances involved). */
+static double rc_reach(const rc_t *r, const rc_ray *q, float t)
 {
-    double x = q->s * q->o[q->a] + (double)t * fabs(q->d[q->a]);
-    return x + 1e-12 * fabs(x);
+    double o = q->s * q->o[q->a], dt = (double)t * fabs(q->d[q->a]);
+    return o + dt + r->pad + 1e-6 * (fabs(o) + dt);
 }
 
 /* Push the ray to where it crosses plane (along the face's direction):
@@ -609,7 +614,7 @@ BODY bool rc_walk(rc_t *r, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counter
         const rc_node *nd = &r->nodes[h];
         const uint32_t *ids = r->pool + nd->list;
         if (counting && nd->count == 0) c->empty_leaves++;
-        double reach = rc_reach(&q, shadow ? ray->tfar : hit->t);
+        double reach = rc_reach(r, &q, shadow ? ray->tfar : hit->t);
         bool stopped = false;
         for (uint32_t i = 0; i < nd->count; i++) {
             uint32_t id = ids[i];
@@ -628,7 +633,7 @@ BODY bool rc_walk(rc_t *r, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counter
                 if (prim_test_any(r->p, id, ray, c, counting)) return true;
             } else if (prim_test_closest(r->p, id, ray, hit, c, counting)) {
                 found = true;
-                reach = rc_reach(&q, hit->t);
+                reach = rc_reach(r, &q, hit->t);
             }
         }
         /* Done unless the list was truncated at a plane the ray reaches. */
