@@ -32,7 +32,8 @@
  *     stops when the ray's interval [tnear, t_hit] projected on the face's
  *     direction lies before the next candidate's minimum extent (figure 23):
  *     no later candidate can then be hit before t_hit, so the closest hit is
- *     exact;
+ *     exact (the comparison waits a slack past t_hit, as a primitive's float
+ *     t may fall just before its exact hit: see rc_reach);
  *   - truncation (s6.4, "partial candidate lists"): with truncate=D a
  *     hypercube's list drops every primitive lying wholly beyond the plane
  *     D x (B's extent along the axis) past the far face of its origin box
@@ -120,12 +121,16 @@
  * 5-D containment test of the last leaf of that face); steps = hypercubes
  * entered on the way down (the root and every level, including levels
  * made by lazy splits); empty_leaves = leaves used whose list is empty;
- * mailbox_hits = primitives skipped after a push. intersect_fast and
+ * mailbox_hits = primitives skipped after a push. Through the cache,
+ * steps and box_tests depend on the rays a thread traced before (which
+ * leaf is cached); the primitive tests and the answers do not, as every
+ * ray reaches the same leaf either way. intersect_fast and
  * occluded_fast are the same walk compiled without counting
  * (accel/common/prim_test.h). Statistics: nodes (interior hypercubes),
- * leaves, empty_leaves, max_depth, avg_leaf_prims (list entries per leaf),
- * refs_per_prim (pool entries over primitives), lazy_build_ms (time spent
- * culling and splitting while tracing since the last reset).
+ * leaves, empty_leaves, max_depth, avg_leaf_prims (list entries per
+ * non-empty leaf), refs_per_prim (pool entries over primitives),
+ * lazy_build_ms (time spent culling and splitting while tracing since the
+ * last reset).
  *
  * Not implemented: Arvo and Kirk's first-generation special case (a direction
  * cube for eye rays: here eye rays are classified like any other), object
@@ -461,8 +466,8 @@ static void refuse(rc_t *r)
     r->refusals++;
     if (!r->warned) {
         r->warned = true;
-        fprintf(stderr, "accelbench: raycls: memcap=%ld MiB reached while tracing: leaves stop splitting until reset "
-                "(answers stay exact)\n", r->memcap);
+        fprintf(stderr, "accelbench: raycls: memcap=%ld MiB reached: hypercubes stop splitting%s (answers stay exact)\n",
+                r->memcap, r->lazy ? " until reset" : "");
     }
 }
 
