@@ -127,8 +127,11 @@
  * ray reaches the same leaf either way. intersect_fast and
  * occluded_fast are the same walk compiled without counting
  * (accel/common/prim_test.h). Statistics: nodes (interior hypercubes),
- * leaves, empty_leaves, max_depth, avg_leaf_prims (list entries per
- * non-empty leaf), refs_per_prim (pool entries over primitives),
+ * leaves (leaf hypercubes with a list of their own: reached by a ray, or
+ * all of them when eager; the siblings a split leaves unreached are not
+ * counted), empty_leaves (of those, the ones with an empty list), max_depth
+ * and avg_leaf_prims (list entries per non-empty one) over the same,
+ * refs_per_prim (pool entries, root lists included, over primitives),
  * lazy_build_ms (time spent culling and splitting while tracing since the
  * last reset).
  *
@@ -870,6 +873,7 @@ static int rc_stats(const accel *a, accel_stat *out, int max)
             interior++;
             continue;
         }
+        if (!nd->own) continue; /* never reached: still its parent's list */
         leaves++;
         empty += nd->count == 0;
         entries += nd->count;
