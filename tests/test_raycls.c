@@ -7,8 +7,8 @@
  *               keeps, and the exact test keeps every box that a sampled ray
  *               of the beam (origin in the box, direction in the cell)
  *               meets, so it is conservative; it is also tighter (counted)
- *   brute force random rays (origins inside and outside the scene box, axis
- *               rays, ties between direction components, finite and
+ *   brute force random rays (origins inside and outside the scene box, some
+ *               1e12 away, axis rays, ties between direction components, finite and
  *               infinite tfar, positive tnear) on a mixed scene (triangles,
  *               spheres, cones) and spd:tree:2, closest and any hit, against
  *               a test of every primitive in id order (`exhaustive`): the
@@ -169,6 +169,10 @@ static rayset_t *random_rays(const scene_t *s, query_kind q, uint32_t count)
         if (i % 17 == 0) d = v3(0.0f, (i & 32) ? -0.0f : 0.0f, (i & 64) ? -1.0f : 1.0f);
         if (i % 19 == 0) d.y = (i & 8) ? d.x : -d.x; /* |x| == |y| */
         if (i % 23 == 0) d.z = d.y;
+        if (i % 29 == 0) { /* from very far: too far to classify soundly, the root list serves */
+            d = v3(srand1(), srand1(), srand1());
+            o = v3_sub(c, v3_scale(d, 1e12f));
+        }
         if (d.x == 0 && d.y == 0 && d.z == 0) d.x = 1;
         float tnear = (i % 5 == 0) ? urand() * 0.5f * v3_len(e) / v3_len(d) : 0.0f;
         float tfar = (i % 4 == 0) ? tnear + urand() * v3_len(e) / v3_len(d) : INFINITY;
