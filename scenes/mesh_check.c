@@ -257,8 +257,8 @@ static bool off_xyz_keyword(const char *kw, size_t n)
     return n == 3 && strncmp(kw, "OFF", 3) == 0;
 }
 
-/* OFF with 3D vertices and its keyword whole ([ST][C][N]OFF), line by
- * line as assimp reads it: the counts, NV lines of at least 3 numbers, NF
+/* OFF with 3D vertices and its keyword whole ([ST][C][N]OFF), or no
+ * keyword at all, line by line as assimp reads it: the counts, NV lines of at least 3 numbers, NF
  * lines of "K i1 .. iK" with every index in range; extra numbers (colours)
  * are allowed. Any other file only has its counts checked (above). */
 static int off_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
@@ -268,7 +268,11 @@ static int off_check(const char *data, size_t size, const char *path, char *err,
     if (!l) return 0; /* assimp will say what is wrong */
     l += strspn(l, MESH_BLANKS);
     size_t kw = strcspn(l, MESH_BLANKS);
-    if (!off_xyz_keyword(l, kw)) return off_counts_check(data, size, path, err, errlen);
+    /* A file that starts with its counts is read as OFF too (the fuzzer's
+     * "3 1 0" file with a face of 295 vertices crashed assimp). */
+    bool headerless = isdigit((unsigned char)l[0]);
+    if (headerless) kw = 0;
+    else if (!off_xyz_keyword(l, kw)) return off_counts_check(data, size, path, err, errlen);
     double cnt[3];
     int n = mesh_numbers(l + kw, cnt, 3, true);
     if (n == 0) {
