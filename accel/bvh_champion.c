@@ -25,6 +25,12 @@
  *   leafsize=4    the builder's max_leaf: a node of more primitives is
  *                 always split, one of at most this many becomes a leaf
  *                 when no cut is cheaper; 1..32.
+ *   packets=on    on: every leaf whose primitives are all triangles keeps
+ *                 them as prims/ triangle packets (prim_tri_pack: 4
+ *                 triangles' corners in SoA, 160 bytes) tested by
+ *                 prim_intersect_tris / prim_occluded_tris, which answer
+ *                 and count exactly as prim_intersect_leaf does over the
+ *                 same ids | off: every leaf through its refs.
  *   isa=auto      box kernels: auto (the best this CPU has: avx512 if it
  *                 has AVX-512F and VL, else avx2 with AVX2 and FMA, else
  *                 sse42, else scalar) | scalar (the reference, plain C) |
@@ -38,8 +44,10 @@
  *
  * Node sizes and memory layout: accel/bvh/wide.h (BVH4 nodes 128 bytes,
  * 117 used; BVH8 nodes 256 bytes, 233 used; 64-byte aligned node array,
- * then 4 bytes of primitive id per primitive in leaf order). memory() is
- * this object (about 80 bytes) plus nodes and refs. Per thread: the
+ * then 4 bytes of primitive id per primitive in leaf order, then with
+ * packets=on 160 bytes per packet, ceil(count / 4) per all-triangle
+ * leaf). memory() is this object (about 80 bytes) plus nodes, refs and
+ * packets. Per thread: the
  * traversal stack, 12 bytes an entry, (W - 1)(depth + 1) + 1 entries.
  * Build scratch, freed before build() returns: primitive boxes (24 bytes
  * each), the kit's binary tree (32 bytes a node, 2n - 1 at most) and its
@@ -48,12 +56,12 @@
  * Counters (accel.h): box_tests = child boxes tested (the used slots of
  * every node visited; unused slots hold empty boxes that the SIMD kernels
  * test for free and nobody counts); steps = nodes visited plus leaves
- * tested; prim_tests and prim_hits by prims/ (one prim_*_leaf call a
- * leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
+ * tested; prim_tests and prim_hits by prims/ (one prim_*_tris or
+ * prim_*_leaf call a leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
  * refs_per_prim, avg_children (used slots per node).
  *
- * Not yet (issue 13's later stages): leaf triangles stored precomputed in
- * SoA packets with a batched prims/ test, spatial splits (split=sbvh), a
+ * Not yet (issue 13's later stages): the packet lanes tested with SIMD
+ * (prims/ tests them one after the other, with one ray set-up), spatial splits (split=sbvh), a
  * multithreaded build, quantised nodes (compress=on), width=2. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -67,6 +75,7 @@ static const accel_param champ_params[] = {
     {"width", "8", "children per node: 4 | 8"},
     {"bins", "16", "binned SAH: bins per axis, 2..256 (Wald 2007)"},
     {"leafsize", "4", "largest leaf the SAH builder may make, 1..32"},
+    {"packets", "on", "on: leaves of triangles only tested as prims/ triangle packets (4 in SoA) | off: through refs"},
     {"isa", "auto", "box kernels: auto (the best this CPU has) | scalar | sse42 | avx2 | avx512"},
     {"memcap", "4096", "MiB: refuse a build whose scratch and nodes exceed it"},
     {NULL, NULL, NULL},
@@ -133,18 +142,23 @@ static int parse_isa(const accel_params *params, wide_isa *isa, char *err, size_
 
 static accel *champ_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const widths[] = {"4", "8", NULL};
-    int wsel;
+    static const char *const widths[] = {"4", "8", NULL}, *const onoff[] = {"off", "on", NULL};
+    int wsel, packets;
     long bins, leafsize, memcap;
     wide_isa isa;
     if (params_get_choice(params, "width", widths, &wsel, err, errlen) ||
         params_get_long(params, "bins", 2, 256, &bins, err, errlen) ||
-        params_get_long(params, "leafsize", 1, 32, &leafsize, err, errlen) || parse_isa(params, &isa, err, errlen) ||
+        params_get_long(params, "leafsize", 1, 32, &leafsize, err, errlen) ||
+        params_get_choice(params, "packets", onoff, &packets, err, errlen) || parse_isa(params, &isa, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
         return NULL;
     const uint32_t width = wsel ? 8 : 4;
     const prims_t *p = &scene->prims;
     const uint32_t n = p->count;
+    if (n > WIDE_INDEX) {
+        snprintf(err, errlen, "bvh: %u primitives, more than leaf indices reach (%u)", n, WIDE_INDEX);
+        return NULL;
+    }
     if (memcap_exceeded(binary_bytes(n), (uint64_t)memcap, err, errlen,
                         "bvh: the binary SAH build over %u primitives", n))
         return NULL;
@@ -176,6 +190,16 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
         goto fail;
     if (wide_collapse(&t->w, &bin, width)) goto oom;
     bvh_free(&bin);
+
+    /* The all-triangle leaves packed, their size checked first. */
+    if (packets) {
+        uint64_t npk = wide_count_packets(&t->w, p);
+        if (memcap_exceeded(memcap_add(wide_memory(&t->w), memcap_mul(npk, sizeof(prim_tri_packet))), (uint64_t)memcap,
+                            err, errlen, "bvh: %u BVH%u nodes and %llu triangle packets over %u primitives",
+                            t->w.nnodes, width, (unsigned long long)npk, n))
+            goto fail;
+        if (wide_pack_leaves(&t->w, p)) goto oom;
+    }
     return &t->base;
 oom:
     snprintf(err, errlen, "bvh: out of memory building over %u primitives", n);
@@ -279,7 +303,7 @@ const wide_bvh *bvh_champion_tree(const accel *a, wide_isa *isa)
 /* Every width with every instruction set this CPU has (the conformance
  * suite cannot skip a variant that this machine refuses, so the list is
  * made at start-up from the CPU), and the leaf and bin settings. */
-static const char *champ_variants[2 * WIDE_ISA_COUNT + 3];
+static const char *champ_variants[2 * WIDE_ISA_COUNT + 4];
 __attribute__((constructor)) static void champ_fill_variants(void)
 {
     static const char *const all[2][WIDE_ISA_COUNT] = {
@@ -291,6 +315,7 @@ __attribute__((constructor)) static void champ_fill_variants(void)
         for (int i = 0; i < WIDE_ISA_COUNT; i++)
             if (wide_isa_supported((wide_isa)i) && wide_kernels_for((wide_isa)i, 8)) champ_variants[n++] = all[w][i];
     champ_variants[n++] = "leafsize=1,width=4";
+    champ_variants[n++] = "packets=off";
     champ_variants[n++] = "leafsize=16,bins=4";
     champ_variants[n] = NULL;
 }

@@ -140,13 +140,15 @@ int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width)
 void wide_free(wide_bvh *w)
 {
     free(w->nodes);
+    free(w->packets);
     free(w->refs);
     memset(w, 0, sizeof *w);
 }
 
 size_t wide_memory(const wide_bvh *w)
 {
-    return (size_t)w->nnodes * wide_node_bytes(w->width) + (size_t)w->nrefs * sizeof(uint32_t);
+    return (size_t)w->nnodes * wide_node_bytes(w->width) + (size_t)w->nrefs * sizeof(uint32_t) +
+           (size_t)w->npackets * sizeof(prim_tri_packet);
 }
 
 uint32_t wide_stack_cap(const wide_bvh *w)

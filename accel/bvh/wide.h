@@ -29,7 +29,9 @@
  *              unused slot holds the empty box (lo +inf, hi -inf), which
  *              every ray misses, so the SIMD test needs no lane mask;
  *   child[W]   uint32: an interior child's node index; a leaf's first entry
- *              of refs with WIDE_LEAF set; WIDE_EMPTY for an unused slot;
+ *              of refs with WIDE_LEAF set, or (a leaf of triangles only,
+ *              after wide_pack_leaves) its first packet with WIDE_LEAF and
+ *              WIDE_PACKED set; WIDE_EMPTY for an unused slot;
  *   count[W]   uint8: a leaf's primitives (1..255), 0 for an interior child;
  *   nchildren  uint8: used slots, always the first ones;
  *   padding to a multiple of the 64-byte cache line.
@@ -38,8 +40,12 @@
  * Memory layout: nodes[nnodes] (64-byte aligned; node 0 the root, which is
  * always interior: a tree whose binary root is a leaf gets a root of one
  * leaf child), then refs[nrefs] uint32 primitive ids, each leaf's a
- * contiguous run (taken over from the binary tree). An empty scene has
- * nnodes == 0. Total = node bytes * nnodes + 4 nrefs (wide_memory()).
+ * contiguous run (taken over from the binary tree), then (packets on)
+ * packets[npackets], prims/'s prim_tri_packet (160 bytes: 4 triangles'
+ * corners in SoA and their ids), each all-triangle leaf's
+ * ceil(count / 4) of them contiguous, 64-byte aligned. An empty scene has
+ * nnodes == 0. Total = node bytes * nnodes + 4 nrefs + 160 npackets
+ * (wide_memory()).
  * Per context: the traversal stack, 12 bytes an entry, (W - 1) (depth + 1)
  * + 1 entries: enough for any walk of this tree (wide_stack_cap()). */
 #ifndef ACCELBENCH_BVH_WIDE_H
@@ -55,6 +61,8 @@ extern "C" {
 #endif
 
 #define WIDE_LEAF 0x80000000u  /* child[] flag: a leaf, the rest is its first entry of refs */
+#define WIDE_PACKED 0x40000000u /* with WIDE_LEAF: a leaf of triangles packed, the rest its first packet */
+#define WIDE_INDEX 0x3FFFFFFFu  /* child[] bits of a leaf's first ref or packet */
 #define WIDE_EMPTY 0xFFFFFFFFu /* child[] of an unused slot */
 #define WIDE_MAX_LEAF 255      /* count[] is a byte */
 
@@ -94,6 +102,8 @@ typedef struct {
     uint32_t nleaves;   /* leaf children over all nodes */
     uint32_t max_depth; /* deepest leaf, root = 0, a leaf one below its node */
     uint64_t nchildren; /* used slots over all nodes: interior children + leaves */
+    prim_tri_packet *packets; /* [npackets] the all-triangle leaves' triangles (wide_pack_leaves), or NULL */
+    uint32_t npackets;
 } wide_bvh;
 
 /* Wide nodes the collapse of b to width makes (so a caller can check a
@@ -107,6 +117,15 @@ uint32_t wide_count_nodes(const bvh_t *b, uint32_t width);
  * read. 0, or -1 out of memory (w empty, b unchanged). */
 int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width);
 void wide_free(wide_bvh *w);
+/* Packets wide_pack_leaves would make: ceil(count / 4) for every leaf whose
+ * primitives are all triangles. */
+uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p);
+/* Copy every all-triangle leaf's triangles into packets (prims.h
+ * prim_tri_pack) and point its slot at them (WIDE_PACKED); the walk then
+ * tests them with prim_intersect_tris / prim_occluded_tris, which answer
+ * and count as the leaf tests over refs do. Other leaves keep their refs.
+ * 0, or -1 out of memory (w unchanged). */
+int wide_pack_leaves(wide_bvh *w, const prims_t *p);
 size_t wide_node_bytes(uint32_t width);
 /* Bytes held: nodes and refs. */
 size_t wide_memory(const wide_bvh *w);

@@ -46,7 +46,7 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
     uint8_t *seen_prim = calloc((size_t)n + 1, 1), *seen_node = calloc((size_t)w->nnodes + 1, 1);
     uint32_t *depth = calloc((size_t)w->nnodes + 1, sizeof *depth);
     uint32_t leaves = 0, refs = 0, max_depth = 0;
-    uint64_t nchildren = 0;
+    uint64_t nchildren = 0, packets = 0;
     if (!seen_prim || !seen_node || !depth) FAIL("out of memory");
     if (W != 4 && W != 8) FAIL("width %u", W);
     if (n && !w->nnodes) FAIL("no nodes over %u primitives", n);
@@ -68,15 +68,23 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
                 continue;
             }
             if (v.child[k] & WIDE_LEAF) {
-                uint32_t first = v.child[k] & ~WIDE_LEAF, cnt = v.count[k];
-                if (!cnt || (uint64_t)first + cnt > w->nrefs) FAIL("node %u slot %u: leaf [%u, +%u) out of refs", i, k, first, cnt);
-                for (uint32_t j = first; j < first + cnt; j++) {
-                    uint32_t id = w->refs[j];
+                uint32_t first = v.child[k] & WIDE_INDEX, cnt = v.count[k];
+                bool packed = v.child[k] & WIDE_PACKED;
+                if (!cnt || (!packed && (uint64_t)first + cnt > w->nrefs) ||
+                    (packed && (uint64_t)first + prim_tri_packets(cnt) > w->npackets))
+                    FAIL("node %u slot %u: leaf [%u, +%u) out of %s", i, k, first, cnt, packed ? "packets" : "refs");
+                for (uint32_t j = 0; j < cnt; j++) {
+                    /* A packet leaf's lanes in order: the ids it was packed from, unused lanes only at the end. */
+                    uint32_t id = packed ? w->packets[first + j / PRIM_TRI_LANES].id[j % PRIM_TRI_LANES] : w->refs[first + j];
+                    if (packed && j + 1 == cnt && (j + 1) % PRIM_TRI_LANES &&
+                        w->packets[first + j / PRIM_TRI_LANES].id[(j + 1) % PRIM_TRI_LANES] != PRIM_TRI_NO_ID)
+                        FAIL("node %u slot %u: packet leaf of %u has more lanes", i, k, cnt);
                     if (id >= n || seen_prim[id]) FAIL("primitive %u in two leaves or out of range", id);
                     seen_prim[id] = 1;
                     if (!box_contains(b, boxes[id])) FAIL("node %u slot %u does not contain primitive %u", i, k, id);
                 }
                 leaves++, refs += cnt;
+                packets += packed ? prim_tri_packets(cnt) : 0;
                 if (depth[i] + 1 > max_depth) max_depth = depth[i] + 1;
                 continue;
             }
@@ -92,6 +100,7 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
     }
     for (uint32_t id = 0; id < n; id++)
         if (!seen_prim[id]) FAIL("primitive %u in no leaf", id);
+    if (packets != w->npackets) FAIL("packets: %llu used of %u", (unsigned long long)packets, w->npackets);
     if (leaves != w->nleaves || refs != w->nrefs || max_depth != w->max_depth || nchildren != w->nchildren)
         FAIL("counts: leaves %u/%u refs %u/%u depth %u/%u", leaves, w->nleaves, refs, w->nrefs, max_depth, w->max_depth);
     free(seen_prim), free(seen_node), free(depth);

@@ -17,7 +17,8 @@
  * alone, so every kernel that computes the same distances walks the same
  * way), push them farthest first, pop the nearest. A popped entry that
  * starts beyond the closest hit is dropped; a popped leaf is tested through
- * prims/ (one prim_*_leaf call); an any-hit query ends at the first
+ * prims/ (one prim_*_tris call over its packets, or one prim_*_leaf call
+ * over its refs); an any-hit query ends at the first
  * occluder. The stack is the caller's, wide_stack_cap() entries, which no
  * walk of its tree can overflow.
  *
@@ -91,7 +92,13 @@ WIDE_FN unsigned wide_box_scalar(const wide_ray *r, const float *rows, const uin
 WIDE_FN bool wide_leaf(const wide_bvh *w, const prims_t *p, uint32_t child, uint32_t count, const ray_t *ray,
                        hit_t *hit, counters_t *c, const bool shadow, const bool counting)
 {
-    const uint32_t *ids = w->refs + (child & ~WIDE_LEAF);
+    if (child & WIDE_PACKED) {
+        const prim_tri_packet *pk = w->packets + (child & WIDE_INDEX);
+        uint32_t npk = prim_tri_packets(count);
+        if (shadow) return counting ? prim_occluded_tris(pk, npk, ray, c) : prim_occluded_tris_fast(pk, npk, ray);
+        return counting ? prim_intersect_tris(pk, npk, ray, hit, c) : prim_intersect_tris_fast(pk, npk, ray, hit);
+    }
+    const uint32_t *ids = w->refs + (child & WIDE_INDEX);
     if (shadow) return counting ? prim_occluded_leaf(p, ids, count, ray, c) : prim_occluded_leaf_fast(p, ids, count, ray);
     return counting ? prim_intersect_leaf(p, ids, count, ray, hit, c) : prim_intersect_leaf_fast(p, ids, count, ray, hit);
 }
