@@ -15,7 +15,8 @@
  * so far, or tfar for an any-hit query), sort the children that are hit by
  * entry distance (ties by slot: the order is a function of the distances
  * alone, so every kernel that computes the same distances walks the same
- * way), push them farthest first, pop the nearest. A popped entry that
+ * way), push them farthest first, pop the nearest (the nearest, when
+ * interior, is visited at once without the push and pop). A popped entry that
  * starts beyond the closest hit is dropped; a popped leaf is tested through
  * prims/ (one prim_*_tris call over its packets, or one prim_*_leaf call
  * over its refs); an any-hit query ends at the first
@@ -138,7 +139,16 @@ WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, c
             while (j > 0 && tn[ord[j - 1]] > tn[k]) ord[j] = ord[j - 1], j--;
             ord[j] = k;
         }
-        for (uint32_t i = m; i-- > 0;) stack[sp++] = (wide_entry){child[ord[i]], count[ord[i]], tn[ord[i]]};
+        /* The nearest child, when interior, is visited next without a
+         * push and pop (it cannot be dropped: its a <= z <= the current
+         * end); otherwise it is pushed last, so popped first, like the
+         * rest. */
+        uint32_t last = m && !(child[ord[0]] & WIDE_LEAF) ? 1 : 0;
+        for (uint32_t i = m; i-- > last;) stack[sp++] = (wide_entry){child[ord[i]], count[ord[i]], tn[ord[i]]};
+        if (last) {
+            cur = child[ord[0]];
+            continue;
+        }
 
         /* Pop until an interior node: test the leaves on the way, drop
          * what starts beyond the closest hit. */
