@@ -9,7 +9,8 @@
  * (prim_tri_pack, prim_intersect_tris, prim_occluded_tris and their _fast
  * forms) give prim_intersect_leaf's and prim_occluded_leaf's hits (t, u, v,
  * prim) bit for bit and their counters, on random triangle leaves with
- * degenerate and repeated triangles, random and axis-aligned (+-0) rays. */
+ * degenerate and repeated triangles, random and axis-aligned (+-0) rays
+ * and rays through corners and edge midpoints (the double fallback). */
 #include <string.h>
 #include "check.h"
 #define PRIMS_TEST_SEED 0x1eaf
@@ -89,6 +90,12 @@ int main(void)
         uint32_t n = (uint32_t)(rng_next() % 41); /* up to 11 packets */
         for (uint32_t k = 0; k < n; k++) ids[k] = tri_ids[rng_next() % ntri];
         if (n && r % 4 == 0) ids[rng_next() % n] = tri_ids[ntri - 1]; /* the degenerate one */
+        if (n && r % 11 == 3) { /* through a corner or an edge's midpoint: edge functions exactly 0, the double fallback */
+            const tri_t *tr = &p.tris[p.index[ids[rng_next() % n]]];
+            vec3 a = p.verts[tr->v[0]], b = p.verts[tr->v[1]];
+            vec3 target = (r & 1) ? a : v3_scale(v3_add(a, b), 0.5f);
+            ray = ray_through(rnd_v3(-8.0f, 8.0f), target);
+        }
         prim_tri_pack(&p, ids, n, pk);
         uint32_t npk = prim_tri_packets(n);
         hit_t want = hit_none(&ray), got = hit_none(&ray), fast = hit_none(&ray);
