@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
-       OPT_VIEW, OPT_REDO, OPT_MEMCAP };
+       OPT_VIEW, OPT_REDO, OPT_MEMCAP, OPT_SHADOW_ACCEL };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -32,6 +32,7 @@ static const struct option long_opts[] = {
     {"view", required_argument, NULL, OPT_VIEW},
     {"memcap", required_argument, NULL, OPT_MEMCAP},
     {"redo", no_argument, NULL, OPT_REDO},
+    {"shadow-accel", required_argument, NULL, OPT_SHADOW_ACCEL},
     {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
 };
 
@@ -50,6 +51,8 @@ void options_usage(FILE *out, const char *cmd)
                 "usage: accelbench render --scene S --accel A --out FILE.png [options]\n"
                 "  Whitted ray tracing (point-light shadows, mirror reflection and refraction to depth 3,\n"
                 "  smooth `pp` normals) through any accelerator that answers closest-hit queries.\n"
+                "  --shadow-accel A        answer the shadow rays through accelerator A (e.g. lightbuf, which answers\n"
+                "                          only those), every other ray through --accel (not with --heatmap)\n"
                 "  --heatmap tests|steps   write a per-pixel cost image of the primary rays instead\n"
                 "  --res WxH               image size (default: the scene's view, e.g. 512x512)\n"
                 "  --spp N                 samples per pixel (default 1)\n"
@@ -202,7 +205,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         if (all_accels[0]) strcat(all_accels, ",");
         strcat(all_accels, accel_registry[i]->name);
     }
-    const char *accels_arg = all_accels, *workloads_arg = NULL;
+    const char *accels_arg = all_accels, *workloads_arg = NULL, *shadow_arg = NULL;
     const char *params[OPT_LIST_MAX];
     int nparams = 0;
     bool res_given = false;
@@ -276,6 +279,13 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
                 return 2;
             }
             o->redo = true;
+            break;
+        case OPT_SHADOW_ACCEL:
+            if (strcmp(cmd, "render") != 0) {
+                fprintf(stderr, "accelbench %s: --shadow-accel is an option of render (see accelbench render --help)\n", cmd);
+                return 2;
+            }
+            shadow_arg = optarg;
             break;
         case OPT_HEATMAP:
             if (strcmp(optarg, "tests") && strcmp(optarg, "steps")) {
@@ -362,6 +372,29 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         o->accels[i].params.seed = o->wl.seed; /* seeded builders (bvh-gs's shuffles) follow the ray sets' seed */
     }
     o->naccels = na;
+    /* render's shadow accelerator goes after the one --accel names, so that
+     * --param and the memory cap reach it like any other. */
+    if (shadow_arg) {
+        const struct accel_ops *ops = accel_find(shadow_arg);
+        if (!ops) {
+            fprintf(stderr, "accelbench: --shadow-accel: unknown accelerator '%s' (see: accelbench list accels)\n", shadow_arg);
+            return 2;
+        }
+        if (o->heatmap) {
+            fprintf(stderr, "accelbench render: --shadow-accel and --heatmap: a heat map traces primary rays only\n");
+            return 2;
+        }
+        if (na != 1) {
+            fprintf(stderr, "accelbench render: --shadow-accel needs exactly one --accel for the other rays\n");
+            return 2;
+        }
+        o->accels[na].ops = ops;
+        params_defaults(&o->accels[na].params, ops->params);
+        o->accels[na].params.threads = o->threads;
+        o->accels[na].params.seed = o->wl.seed;
+        o->naccels = na + 1;
+        o->shadow_accel = true;
+    }
     for (int k = 0; k < nparams; k++) {
         char buf[256];
         snprintf(buf, sizeof buf, "%s", params[k]);

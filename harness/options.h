@@ -35,6 +35,7 @@ typedef struct {
     int argc_full;        /* main's argc and argv (set by main.c): run prints the command that resumes it */
     char **argv_full;
     const char *heatmap;  /* render: NULL, "tests" or "steps" */
+    bool shadow_accel;    /* render --shadow-accel A: accels[1] answers the shadow rays, accels[0] everything else */
     bool quiet;
     bool res_given;       /* --res was on the command line */
     double judge_seconds; /* the exact judge's time budget per cell (0: none) */

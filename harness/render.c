@@ -7,8 +7,9 @@
  * depth 3. The secondary rays are the whitted workload's (spawn.h): the
  * same origins, shadow rule, reflection and refraction. Two-sided: the
  * normals are turned toward the viewer. Every ray goes through the chosen
- * accelerator, so two correct accelerators give the same picture up to
- * float noise at edges. */
+ * accelerator (the shadow rays through --shadow-accel's when given: a
+ * shadow-only one such as the light buffer), so two correct accelerators
+ * give the same picture up to float noise at edges. */
 #include "render.h"
 
 #include <math.h>
@@ -25,8 +26,8 @@
 
 typedef struct {
     const scene_t *s;
-    accel *a;
-    accel_ctx *ctx;
+    accel *a, *sa; /* closest hits; shadow rays (sa may be a) */
+    accel_ctx *ctx, *sctx;
     counters_t c;
     float light_scale;
 } shader_t;
@@ -43,7 +44,7 @@ static vec3 shade(shader_t *sh, const ray_t *r, int depth)
         ray_t sr;
         if (!spawn_shadow(s, &f, l, &sr)) continue;
         float cosine = v3_dot(sr.dir, f.ns);
-        if (cosine <= 0.0f || sh->a->ops->occluded(sh->a, sh->ctx, &sr, &sh->c)) continue;
+        if (cosine <= 0.0f || sh->sa->ops->occluded(sh->sa, sh->sctx, &sr, &sh->c)) continue;
         col = v3_add(col, v3_scale(m->color, m->kd * cosine * sh->light_scale));
     }
     if (depth >= RENDER_DEPTH) return col;
@@ -58,30 +59,38 @@ static vec3 shade(shader_t *sh, const ray_t *r, int depth)
 
 image_t *render_whitted(const scene_t *s, accel *a, const rayset_t *prim, counters_t *work)
 {
+    return render_whitted_shadows(s, a, a, prim, work);
+}
+
+image_t *render_whitted_shadows(const scene_t *s, accel *a, accel *shadow, const rayset_t *prim, counters_t *work)
+{
     image_t *im = image_new((int)prim->width, (int)prim->height);
     vec3 *sum = checked_calloc((size_t)prim->width * prim->height, sizeof *sum, "an image's colour sums");
-    shader_t sh = {.s = s, .a = a, .ctx = a->ops->context_new ? a->ops->context_new(a) : NULL,
+    shader_t sh = {.s = s, .a = a, .sa = shadow, .ctx = a->ops->context_new ? a->ops->context_new(a) : NULL,
                    .light_scale = s->nlights ? 1.0f / sqrtf((float)s->nlights) : 1.0f};
+    sh.sctx = shadow == a ? sh.ctx : shadow->ops->context_new ? shadow->ops->context_new(shadow) : NULL;
     for (uint32_t i = 0; i < prim->count; i++) sum[prim->pixel[i]] = v3_add(sum[prim->pixel[i]], shade(&sh, &prim->rays[i], 1));
     float inv = 1.0f / (float)prim->spp;
     for (uint32_t y = 0; y < prim->height; y++)
         for (uint32_t x = 0; x < prim->width; x++) image_set(im, (int)x, (int)y, v3_scale(sum[y * prim->width + x], inv));
     if (a->ops->context_free) a->ops->context_free(sh.ctx);
+    if (shadow != a && shadow->ops->context_free) shadow->ops->context_free(sh.sctx);
     if (work) *work = sh.c;
     free(sum);
     return im;
 }
 
-static int render_image(const options *o, const scene_t *s, accel *a, const rayset_t *prim)
+static int render_image(const options *o, const scene_t *s, accel *a, accel *shadow, const rayset_t *prim)
 {
     counters_t work;
-    image_t *im = render_whitted(s, a, prim, &work);
+    image_t *im = render_whitted_shadows(s, a, shadow, prim, &work);
     char err[512];
     int rc = image_write_png(im, o->out, err, sizeof err);
     if (rc) fprintf(stderr, "accelbench: %s\n", err);
     else if (!o->quiet) {
         printf("wrote %s: %ux%u, %u spp, %s through %s", o->out, prim->width, prim->height, prim->spp, s->name, a->ops->name);
-        if (!(a->ops->flags & ACCEL_OPAQUE))
+        if (shadow != a) printf(" (shadow rays through %s)", shadow->ops->name);
+        if (!(a->ops->flags & ACCEL_OPAQUE) && !(shadow->ops->flags & ACCEL_OPAQUE))
             printf(", %.1f ray/primitive tests per pixel", (double)work.prim_tests / ((double)prim->width * prim->height));
         printf("\n");
     }
@@ -124,13 +133,14 @@ static int render_heatmap(const options *o, const scene_t *s, accel *a, const ra
 
 int render_main(options *o)
 {
-    if (o->nscenes != 1 || o->naccels != 1 || !o->out) {
+    if (o->nscenes != 1 || o->naccels != 1 + o->shadow_accel || !o->out) {
         fprintf(stderr, "accelbench render: give one --scene, one --accel and --out FILE.png (see accelbench render --help)\n");
         return 2;
     }
     const accel_config *ac = &o->accels[0];
     if (!ac->ops->intersect) {
-        fprintf(stderr, "accelbench render: %s answers shadow rays only and cannot render\n", ac->ops->name);
+        fprintf(stderr, "accelbench render: %s answers shadow rays only and cannot render; give it as --shadow-accel %s beside "
+                "an --accel for the other rays\n", ac->ops->name, ac->ops->name);
         return 2;
     }
     char err[512];
@@ -158,9 +168,21 @@ int render_main(options *o)
         scene_free(s);
         return 2;
     }
+    accel *shadow = a;
+    if (o->shadow_accel) {
+        const accel_config *sc = &o->accels[1];
+        shadow = accel_build(sc->ops, s, &sc->params, err, sizeof err);
+        if (!shadow) {
+            fprintf(stderr, "accelbench: %s on %s: build failed: %s\n", sc->ops->name, s->name, err);
+            a->ops->destroy(a);
+            scene_free(s);
+            return 2;
+        }
+    }
     rayset_t *prim = workload_primary(s, &wl);
-    int rc = o->heatmap ? render_heatmap(o, s, a, prim) : render_image(o, s, a, prim);
+    int rc = o->heatmap ? render_heatmap(o, s, a, prim) : render_image(o, s, a, shadow, prim);
     rayset_free(prim);
+    if (shadow != a) shadow->ops->destroy(shadow);
     a->ops->destroy(a);
     scene_free(s);
     return rc;

@@ -15,5 +15,9 @@ int render_main(options *o);
  * of its samples), every ray through accelerator a; the work done is
  * summed into *work when it is not NULL. */
 image_t *render_whitted(const scene_t *s, accel *a, const rayset_t *prim, counters_t *work);
+/* The same with the shadow rays through accelerator shadow (a shadow-only
+ * one such as lightbuf, or any other), every other ray through a; the work
+ * of both is summed into *work. */
+image_t *render_whitted_shadows(const scene_t *s, accel *a, accel *shadow, const rayset_t *prim, counters_t *work);
 
 #endif

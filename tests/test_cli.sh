@@ -197,6 +197,17 @@ expect 0 "wrote $T/img.png" -- "$AB" render --scene spd:balls:2 --accel exhausti
 expect 0 "tests per pixel" -- "$AB" render --scene spd:balls:2 --accel exhaustive --res 32x32 --heatmap tests --out "$T/heat.png"
 expect 2 "does not expose its counters" -- "$AB" render --scene spd:balls:2 --accel embree --res 32x32 --heatmap tests --out "$T/h2.png"
 [ "$(head -c 4 "$T/img.png" | tail -c 3)" = "PNG" ] && ok || bad "render output is not a PNG"
+# --shadow-accel: the light buffer answers the shadow rays, bvh-gs the rest; the same picture as bvh-gs alone
+expect 0 "--shadow-accel A" -- "$AB" render --help
+expect 0 "shadow rays through lightbuf" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --shadow-accel lightbuf \
+    --param lightbuf.res=8 --res 40x40 --out "$T/lb.png"
+expect 0 "wrote $T/gs.png" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --res 40x40 --out "$T/gs.png"
+cmp -s "$T/lb.png" "$T/gs.png" && ok || bad "render --shadow-accel lightbuf differs from bvh-gs's picture"
+refused "give it as --shadow-accel lightbuf" -- "$AB" render --scene spd:balls:2 --accel lightbuf --out "$T/x.png"
+refused "--shadow-accel: unknown accelerator 'nope'" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --shadow-accel nope --out "$T/x.png"
+refused "--shadow-accel and --heatmap" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --shadow-accel lightbuf --heatmap tests --out "$T/x.png"
+refused "--shadow-accel is an option of render" -- "$AB" verify --scenes spd:balls:1 --shadow-accel lightbuf
+refused "res=0: must be in 1..1024" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --shadow-accel lightbuf --param lightbuf.res=0 --out "$T/x.png"
 
 # --- reproduce woo92 (quick): tables, tidy CSV, plots, every cell verified
 expect 0 "verified: 0 real mismatches" -- "$AB" reproduce woo92 --quick --out "$T/woo" --quiet

@@ -1,0 +1,1597 @@
+/* lightbuf_haines_greenberg.c: `lightbuf`, Haines and Greenberg's light
+ * buffer: shadow rays only.
+ *
+ * Paper: E. A. Haines, D. P. Greenberg, "The Light Buffer: A Shadow-Testing
+ * Accelerator", IEEE Computer Graphics and Applications 6(9), 6-16,
+ * September 1986, as the survey of J. Arvo and D. Kirk, "A Survey of Ray
+ * Tracing Acceleration Techniques" (1989), describes it in s6.1 (the
+ * direction cube, figure 19's mapping: accel/common/dircube.h) and s6.2:
+ *   - one direction cube per point light, res x res cells on each face;
+ *   - every primitive projected onto the six faces and added to the list
+ *     of every cell its projection partly or wholly covers; lists sorted by
+ *     depth (distance from the light);
+ *   - a shadow query reads the cell of the direction from the light to the
+ *     point and tests the list in depth order until an occluder is found or
+ *     the next candidate starts beyond the point;
+ *   - the simplifications of s6.2, each a switch (below).
+ *
+ * Projection (build). Everything is done in double, relative to the
+ * light, with a margin M in u-v units (M = min(1/8, max(cell side / 16,
+ * 2^-10)), cell side 2 / res): a primitive goes in every cell whose square
+ * GROWN BY M on every side (also past the face's edge, into the
+ * neighbouring face's directions) meets its projection. Triangles and
+ * polygons (through their ear triangles, prims/) exactly: each triangle is
+ * clipped (Sutherland-Hodgman) against the face's pyramid |u|, |v| <= 1 + M,
+ * projected (u = x / z, v = y / z) and rasterised conservatively: for
+ * every row of cells the u-range of the convex projection within the
+ * row's grown v-strip, every cell whose grown u-range meets it. Spheres
+ * and cones through a polyhedral hull: the six faces of their bounding box
+ * (prim_bounds; a cone's box is that of its end discs, which holds it),
+ * whose projections cover the box's. A clipped point that would not lie in
+ * front of the light (possible only for a primitive through the light,
+ * which never gets here) marks the whole face.
+ *
+ * The light's own neighbourhood. A primitive whose distance from the
+ * light is at most rho (rho = 2^-8 times the light's distance to the far
+ * corner of the scene box) is not projected (near the light, and through
+ * it, projection is ill-defined) but kept in the light's NEAR LIST, which
+ * every query of that light reads (as if it were in every cell). So the
+ * cells hold only primitives farther than rho, and their depths are real.
+ *
+ * Depths. A list entry's depth is a lower bound of the primitive's
+ * distance from the light (point-triangle distance for triangles and
+ * polygons, |c - L| - r for spheres, distance to the axis segment less
+ * the larger radius for cones), rounded down by 1e-6 relatively.
+ *
+ * Query (occluded). With Ps = O + tnear D (the far end of a shadow ray)
+ * and Pe = O + tfar D (its end at the light), in double:
+ *   1. the ray is answered by the light buffer only when it is a shadow
+ *      ray of a light: ray->light names one, tfar is finite and
+ *      e = |Pe - L| <= rho / 4096 (the segment ends at the light up to
+ *      rounding). Every other any-hit ray (RAY_NO_LIGHT, an index out of
+ *      range, a segment that does not end at its light: the conformance
+ *      suite sends such) gets the exact answer from the FALLBACK, the
+ *      kit's binned-SAH BVH over every primitive (accel/bvh/,
+ *      bvh_occluded_dfs), whose node tests are counted as the bvh's
+ *      (box_tests and steps, below).
+ *   2. Every point of the segment lies within max(|Ps - L|, e) of L, so a
+ *      candidate whose depth exceeds that (times 1 + 1e-6) cannot touch it:
+ *      the stopping rule.
+ *   3. If |Ps - L| <= rho the whole segment is within rho of the light:
+ *      the near list alone holds what can touch it.
+ *   4. Else the cell is that of W = Ps - L (dircube_face, dircube_uv).
+ *      The segment's points farther than rho from L see L within an angle
+ *      of asin(e / rho) of W's direction, which moves u-v by at most
+ *      8 e / rho (plus 4e-6 for W's rounding to float): when that is more
+ *      than M the ray goes to the fallback (never seen on the workloads'
+ *      shadow rays, e / rho ~ 1e-4); else the grown cell holds every
+ *      direction of that part, so its list holds every primitive the
+ *      segment can touch farther than rho, and the near list the rest.
+ *   5. The cell's full-occlusion record (fullocc), then its single-polygon
+ *      plane test (single), then its list in depth order, then the near
+ *      list in depth order.
+ *
+ * Parameters (defaults; every switch defaults to on, because each is
+ * implemented only in the form proven sound below):
+ *   res=32        cells per face side, 1..1024 (6 res^2 cells per light),
+ *                 or auto: about 4 primitives a cell where the scene is
+ *                 seen: the primitives' centres binned on a coarse cube
+ *                 with N / 4 cells in all, O of them occupied, give
+ *                 res = G sqrt(N / (4 O)) (G the coarse side), the largest
+ *                 over the lights, within 8..512. A rule of thumb, not the
+ *                 paper's (which gives none): from far lights a scene is a
+ *                 few cells wide at res 32, each holding a large part of
+ *                 it, and every lit point behind tests them all (spd:tree,
+ *                 7 far lights: over a thousand tests a ray at res=32).
+ *   cull=on       s6.2's first simplification: polygons facing away from
+ *                 the light that are part of closed opaque solids are not
+ *                 listed. Closedness is decided, never assumed: triangles
+ *                 and polygons (through their ear triangles) are joined
+ *                 into components by shared edges, vertices matched by
+ *                 exact position. A component qualifies when
+ *                   - every edge is used exactly twice, once in each
+ *                     direction (closed and consistently oriented: a
+ *                     2-cycle), its signed volume is positive (outward),
+ *                   - and it is convex (at most LB_CULL_MAX_TRIS = 4096
+ *                     triangles, every vertex behind or on every
+ *                     triangle's plane up to 1e-6 of its box diagonal:
+ *                     float vertices of coplanar faces are never exactly
+ *                     coplanar) or embedded: every two triangles whose
+ *                     boxes overlap meet only where the mesh joins them
+ *                     (apart by 1e-9 of the diagonal along a separating
+ *                     axis; sharing one vertex: split by a plane through
+ *                     it; sharing an edge: not folded onto each other),
+ *                     found through the kit's BVH over their boxes.
+ *                 Its winding number w is then in {0, 1} (embedded,
+ *                 outward) or >= 0 (the boundary of its hull, outward).
+ *                 For a light more than rho from every one of its
+ *                 triangles and outside it (w = 0 by the sum of their
+ *                 solid angles), a primitive all of whose triangles have
+ *                 the light at least rho / 2 behind their planes is
+ *                 culled: a segment from any point to the light's end
+ *                 (within rho / 4096 of the light: outside too) that
+ *                 crosses it goes from w to w + 1 and must come back to 0
+ *                 through a triangle it crosses from back to front, which
+ *                 faces the light and is listed. The closed bunny loses
+ *                 about half its triangles per light; the open or
+ *                 self-intersecting meshes and SPD's polygons that only
+ *                 share positions along T-junctions are left alone.
+ *                 Sound up to the tolerances above: a violation needs a
+ *                 fold, pocket or gap thinner than them.
+ *   single=on     s6.2's second: "a list of exactly one polygon can be
+ *                 deleted, because a polygon cannot occlude itself". That
+ *                 holds only for points ON the polygon; a point on another
+ *                 primitive behind it (or any point, for the any-hit rays
+ *                 this interface receives) can be shadowed by it. What is
+ *                 implemented is the sound case: a cell whose final list
+ *                 is one triangle or polygon keeps the polygon's slab (its
+ *                 unit normal n and the range [lo, hi] of n . x over its
+ *                 vertices, rounded outward), and a query whose Ps and Pe
+ *                 both lie strictly on one side of the slab skips the
+ *                 polygon's test (one plane test, counted as a box test):
+ *                 the segment cannot meet it. That is every query from a
+ *                 point of the lit polygon itself, the survey's case.
+ *   fullocc=on    s6.2's third: a primitive whose projection covers the
+ *                 whole (grown) cell ends the cell's list with a
+ *                 full-occlusion record at depth D, the primitive's
+ *                 FARTHEST point from the light (times 1 + 1e-6: every
+ *                 direction of the cell meets it before D); candidates
+ *                 deeper than D are dropped, and a query with |Ps - L| > D
+ *                 is in shadow with no test. Covering is decided for
+ *                 triangles (the cell's four grown corner directions
+ *                 strictly inside the triangle's cone from the light, by
+ *                 signed volumes with a 1e-7 relative margin; polygons:
+ *                 all four in one ear triangle) and spheres (the corners
+ *                 inside the cone of half-angle asin(r / d), with margin);
+ *                 cones never. Sound because the segment runs from Ps,
+ *                 beyond the primitive in every direction of the cell, to
+ *                 within rho of the light, nearer than any point of it,
+ *                 inside the cell's directions all along: it crosses the
+ *                 primitive's interior at some t strictly in (tnear, tfar).
+ *                 A query at |Ps - L| <= D (a tie) reads the list.
+ *   memcap=4096   MiB: refuse a build whose cells, lists, fallback BVH and
+ *                 scratch would pass it (cells and fallback estimated
+ *                 before allocating them, the lists counted by a first
+ *                 projection pass before they are allocated).
+ *
+ * Memory layout (memory() counts all of it), per light:
+ *   cells[6 res^2]  lb_cell, 16 bytes: first (4) and count (4) of the
+ *                   cell's run of refs, occ (4, float: the full-occlusion
+ *                   depth, +inf when none), single (4: index into slabs,
+ *                   or LB_NONE). Cell index (face res + j) res + i, face
+ *                   0..5 for +x -x +y -y +z -z, i along u, j along v,
+ *                   cell i spanning u in [-1 + 2i/res, -1 + 2(i+1)/res].
+ *   refs[nrefs]     lb_ref, 8 bytes: primitive id (4) and depth (4, float),
+ *                   each cell's run contiguous and sorted by (depth, id).
+ *   near[nnear]     lb_ref, the near list, sorted the same way.
+ *   slabs[nslabs]   lb_slab, 20 bytes: unit normal (12), lo (4), hi (4).
+ *   lb_light itself (80 bytes).
+ * Shared: the fallback BVH (32 bytes a node, 4 a primitive: bvh.h) and the
+ * object. Nothing per thread (no context).
+ *
+ * Counters (accel.h): steps = cells read (one per light-buffer query) and,
+ * on the fallback, the bvh's nodes visited; empty_leaves = cells read that
+ * hold no candidate and no full-occlusion record; box_tests = single-polygon
+ * plane tests and the fallback's node box tests; prim_tests and prim_hits
+ * by prims/. A query answered by a full-occlusion record counts a step and
+ * no test. occluded_fast is the same query compiled without counting
+ * (accel/common/prim_test.h's pattern). Fallback rays are not counted
+ * apart: on the shadow workloads they are none (steps = shadow rays there
+ * says so: every light-buffer query reads one cell, near-list-only queries
+ * none).
+ * Statistics: nodes = cells (6 res^2 per light), leaves = cells with a
+ * non-empty list, empty_leaves = cells with none, avg_leaf_prims = refs
+ * over non-empty cells, refs_per_prim = (cell refs + near refs) over
+ * primitives, res_x = res_y = res.
+ *
+ * Not implemented: Haines and Greenberg's scan-line rasterisation itself
+ * (the clipped projection is rasterised row by row, the same coverage),
+ * lights other than points, the surface-orientation test of the shading
+ * point (the workloads spawn no shadow ray from a surface facing away,
+ * spawn.h), enclosed polygonal meshes for curved surfaces' full occlusion
+ * (spheres use their exact cone; cones none), culling of closed solids
+ * that are neither convex nor embedded (or of spheres, cones and open
+ * meshes: nothing closed to decide), per-cell minimum depths (the list is
+ * keyed by the primitive's distance from the light over all its points),
+ * a resolution of its own for each light, adaptive subdivision of the
+ * faces (survey fig. 18(c)). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "accel.h"
+#include "lightbuf_haines_greenberg.h"
+#include "bvh/bvh.h"
+#include "common/dircube.h"
+#include "common/memcap.h"
+#include "common/prim_test.h"
+#include "../prims/checked_alloc.h"
+
+#define BODY static inline __attribute__((always_inline))
+#define LB_NONE UINT32_MAX
+#define LB_RES_MAX 1024
+#define LB_RHO_FRAC (1.0 / 256.0)   /* rho over the light's reach */
+#define LB_END_FRAC (1.0 / 4096.0)  /* the largest e / rho a shadow ray may have */
+#define LB_PERTURB 8.0              /* u-v movement per unit of e / rho (see the header) */
+#define LB_UV_ROUND 4e-6            /* dircube_uv's float rounding of W, with room */
+#define LB_DEPTH_SLACK 1e-6         /* relative: depths rounded down, query depths and occ up */
+#define LB_CULL_MAX_TRIS 4096       /* the convexity check is quadratic in a component's size */
+#define LB_CULL_FLAT 1e-6           /* convexity tolerance, relative to a component's box diagonal */
+
+static const accel_param lb_params[] = {
+    {"res", "32", "cells per direction-cube face side, 1..1024 (6 res^2 cells per light), or auto (from the scene's size)"},
+    {"cull", "on", "on|off: drop polygons facing away from the light on closed solids (convex or embedded, decided soundly)"},
+    {"single", "on", "on|off: a cell listing one polygon skips its test when the segment stays on one side of it"},
+    {"fullocc", "on", "on|off: full-occlusion records: points beyond a primitive covering the cell are in shadow"},
+    {"memcap", "4096", "MiB: refuse a build whose cells, lists and fallback exceed it"},
+    {NULL, NULL, NULL},
+};
+
+typedef struct {
+    uint32_t id; /* primitive */
+    float depth; /* lower bound of its distance from the light */
+} lb_ref;
+_Static_assert(sizeof(lb_ref) == 8, "lb_ref is 8 bytes");
+
+typedef struct {
+    uint32_t first, count; /* the cell's run refs[first .. first + count) */
+    float occ;             /* full-occlusion depth, +inf for none */
+    uint32_t single;       /* index into slabs when the list is one polygon (single=on), else LB_NONE */
+} lb_cell;
+_Static_assert(sizeof(lb_cell) == 16, "lb_cell is 16 bytes: four to a cache line");
+
+typedef struct {
+    vec3 n;        /* unit normal */
+    float lo, hi;  /* n . x over the polygon lies in [lo, hi] */
+} lb_slab;
+_Static_assert(sizeof(lb_slab) == 20, "lb_slab is 20 bytes");
+
+typedef struct {
+    double pos[3]; /* the light */
+    double rho;    /* near-list radius */
+    lb_cell *cells;
+    lb_ref *refs, *near;
+    lb_slab *slabs;
+    uint32_t nrefs, nnear, nslabs, nculled;
+} lb_light;
+
+typedef struct {
+    accel base;
+    const prims_t *p;
+    uint32_t res, ncells; /* ncells = 6 res^2, per light */
+    double margin;        /* M, u-v units */
+    bool cull, single, fullocc;
+    uint32_t nlights;
+    lb_light *lights;
+    bvh_t fallback;
+} lb_t;
+
+/* ------------------------------------------------------ small geometry */
+
+typedef struct { double v[3]; } dv;
+
+static dv dv_of(vec3 a) { return (dv){{a.x, a.y, a.z}}; }
+static dv dv_sub(dv a, dv b) { return (dv){{a.v[0] - b.v[0], a.v[1] - b.v[1], a.v[2] - b.v[2]}}; }
+static double dv_dot(dv a, dv b) { return a.v[0] * b.v[0] + a.v[1] * b.v[1] + a.v[2] * b.v[2]; }
+static double dv_len(dv a) { return sqrt(dv_dot(a, a)); }
+static dv dv_cross(dv a, dv b)
+{
+    return (dv){{a.v[1] * b.v[2] - a.v[2] * b.v[1], a.v[2] * b.v[0] - a.v[0] * b.v[2], a.v[0] * b.v[1] - a.v[1] * b.v[0]}};
+}
+static dv dv_madd(dv a, dv b, double s) { return (dv){{a.v[0] + b.v[0] * s, a.v[1] + b.v[1] * s, a.v[2] + b.v[2] * s}}; }
+
+/* Distance from point q to triangle abc (Ericson, Real-Time Collision
+ * Detection s5.1.5's regions, written here in double). */
+static double dist_point_triangle(dv q, dv a, dv b, dv c)
+{
+    dv ab = dv_sub(b, a), ac = dv_sub(c, a), ap = dv_sub(q, a);
+    double d1 = dv_dot(ab, ap), d2 = dv_dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return dv_len(ap);
+    dv bp = dv_sub(q, b);
+    double d3 = dv_dot(ab, bp), d4 = dv_dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return dv_len(bp);
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return dv_len(dv_sub(q, dv_madd(a, ab, d1 / (d1 - d3))));
+    dv cp = dv_sub(q, c);
+    double d5 = dv_dot(ab, cp), d6 = dv_dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return dv_len(cp);
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return dv_len(dv_sub(q, dv_madd(a, ac, d2 / (d2 - d6))));
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+        return dv_len(dv_sub(q, dv_madd(b, dv_sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+    double den = va + vb + vc;
+    if (!(den > 0)) return fmin(fmin(dv_len(ap), dv_len(bp)), dv_len(cp)); /* degenerate: never asked, safe anyway */
+    dv x = dv_madd(dv_madd(a, ab, vb / den), ac, vc / den);
+    return dv_len(dv_sub(q, x));
+}
+
+/* Distance from q to the segment ab. */
+static double dist_point_segment(dv q, dv a, dv b)
+{
+    dv ab = dv_sub(b, a);
+    double l2 = dv_dot(ab, ab), s = l2 > 0 ? dv_dot(dv_sub(q, a), ab) / l2 : 0;
+    s = s < 0 ? 0 : s > 1 ? 1 : s;
+    return dv_len(dv_sub(q, dv_madd(a, ab, s)));
+}
+
+/* ------------------------------------------------- a primitive's pieces */
+
+/* The convex planar pieces a primitive is projected through: its
+ * triangle, a polygon's ear triangles, or the twelve triangles of a
+ * sphere's or cone's bounding box (its polyhedral hull). Returns how many
+ * (at most LB_MAX_PIECES; polygons may have more: *more is then set and
+ * the caller pages through them with `from`). */
+#define LB_MAX_PIECES 64
+static uint32_t prim_pieces(const prims_t *p, uint32_t id, uint32_t from, dv out[][3], bool *more)
+{
+    *more = false;
+    uint32_t k = p->index[id];
+    switch ((prim_kind)p->kind[id]) {
+    case PRIM_TRIANGLE:
+        if (from) return 0;
+        for (int v = 0; v < 3; v++) out[0][v] = dv_of(p->verts[p->tris[k].v[v]]);
+        return 1;
+    case PRIM_POLYGON: {
+        const polygon_t *g = &p->polygons[k];
+        uint32_t nt = g->count - 2, n = 0;
+        for (uint32_t t = from; t < nt && n < LB_MAX_PIECES; t++, n++)
+            for (int v = 0; v < 3; v++) out[n][v] = dv_of(p->verts[p->poly_tris[g->tri_first + t].v[v]]);
+        *more = from + n < nt;
+        return n;
+    }
+    default: {
+        if (from) return 0;
+        box3 b = prim_bounds(p, id);
+        dv c[8];
+        for (int i = 0; i < 8; i++)
+            c[i] = (dv){{i & 1 ? b.hi.x : b.lo.x, i & 2 ? b.hi.y : b.lo.y, i & 4 ? b.hi.z : b.lo.z}};
+        static const int quads[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+        for (int q = 0; q < 6; q++) {
+            out[2 * q][0] = c[quads[q][0]], out[2 * q][1] = c[quads[q][1]], out[2 * q][2] = c[quads[q][2]];
+            out[2 * q + 1][0] = c[quads[q][0]], out[2 * q + 1][1] = c[quads[q][2]], out[2 * q + 1][2] = c[quads[q][3]];
+        }
+        return 12;
+    }
+    }
+}
+
+static bool prim_degenerate(const prims_t *p, uint32_t id)
+{
+    uint32_t k = p->index[id];
+    if (p->kind[id] == PRIM_TRIANGLE) return p->tri_degenerate[k];
+    if (p->kind[id] == PRIM_POLYGON) return p->polygons[k].degenerate;
+    return false;
+}
+
+/* A lower bound of the distance from L to primitive id (see the header). */
+static double prim_min_dist(const prims_t *p, uint32_t id, dv L)
+{
+    uint32_t k = p->index[id];
+    switch ((prim_kind)p->kind[id]) {
+    case PRIM_SPHERE:
+        return dv_len(dv_sub(dv_of(p->spheres[k].center), L)) - p->spheres[k].radius;
+    case PRIM_CONE: {
+        const cone_t *c = &p->cones[k];
+        return dist_point_segment(L, dv_of(c->base), dv_of(c->apex)) - fmax(c->base_radius, c->apex_radius);
+    }
+    default: {
+        dv t[LB_MAX_PIECES][3];
+        bool more = true;
+        double d = INFINITY;
+        for (uint32_t from = 0; more;) {
+            uint32_t n = prim_pieces(p, id, from, t, &more);
+            for (uint32_t i = 0; i < n; i++) d = fmin(d, dist_point_triangle(L, t[i][0], t[i][1], t[i][2]));
+            from += n;
+        }
+        return d;
+    }
+    }
+}
+
+/* -------------------------------------------------- the direction cube */
+
+/* Face f's frame (figure 19): the dominant axis, its sign, and U and V,
+ * the other two axes in lexicographic order. */
+static void face_axes(int f, int *major, double *sign, int *ua, int *va)
+{
+    *major = f >> 1;
+    *sign = (f & 1) ? -1.0 : 1.0;
+    *ua = *major == 0 ? 1 : 0;
+    *va = *major == 2 ? 1 : 2;
+}
+
+/* The world direction through (u, v) of face f. */
+static dv face_dir(int f, double u, double v)
+{
+    int major, ua, va;
+    double sign;
+    face_axes(f, &major, &sign, &ua, &va);
+    dv d;
+    d.v[major] = sign, d.v[ua] = u, d.v[va] = v;
+    return d;
+}
+
+/* --------------------------------------------------------- projection */
+
+typedef struct {
+    lb_t *t;
+    lb_light *L;
+    uint32_t *stamp; /* [ncells]: the last primitive (id + 1) marked in each cell */
+    uint32_t *count; /* pass 1: refs per cell; pass 2: refs written per cell */
+    bool fill;       /* pass 2 */
+    uint32_t id;
+    float depth;
+    uint64_t total;  /* refs marked */
+    uint32_t *marked; /* pass 2, fullocc: the cells the current primitive marked */
+    uint32_t nmarked, marked_cap;
+    bool oom;
+} lb_raster;
+
+static void mark_cell(lb_raster *r, uint32_t cell)
+{
+    if (r->stamp[cell] == r->id + 1) return;
+    r->stamp[cell] = r->id + 1;
+    r->total++;
+    if (r->fill) {
+        lb_cell *c = &r->L->cells[cell];
+        r->L->refs[c->first + r->count[cell]] = (lb_ref){r->id, r->depth};
+        if (r->t->fullocc) {
+            if (r->nmarked == r->marked_cap) {
+                uint32_t cap = r->marked_cap ? 2 * r->marked_cap : 256;
+                uint32_t *m = realloc(r->marked, (size_t)cap * sizeof *m);
+                if (!m) {
+                    r->oom = true;
+                    r->count[cell]++;
+                    return;
+                }
+                r->marked = m, r->marked_cap = cap;
+            }
+            r->marked[r->nmarked++] = cell;
+        }
+    }
+    r->count[cell]++;
+}
+
+/* Clip triangle tri (relative to the light) against face f's pyramid
+ * |x|, |y| <= K z grown to K = 1 + M, and project: uv[n][2]. Returns n
+ * (0: nothing in the pyramid), or -1 when a clipped point is not in front
+ * of the light (z <= 0: only a primitive through the light). */
+static int clip_project(const dv tri[3], int f, double K, double uv[16][2])
+{
+    int major, ua, va;
+    double sign;
+    face_axes(f, &major, &sign, &ua, &va);
+    double a[16][3], b[16][3];
+    int n = 3;
+    for (int i = 0; i < 3; i++) a[i][0] = tri[i].v[ua], a[i][1] = tri[i].v[va], a[i][2] = sign * tri[i].v[major];
+    /* The four planes K z -+ x >= 0, K z -+ y >= 0, one after another. */
+    for (int pl = 0; pl < 4 && n > 0; pl++) {
+        int axis = pl >> 1;
+        double s = (pl & 1) ? 1.0 : -1.0;
+        int m = 0;
+        for (int i = 0; i < n; i++) {
+            const double *p = a[i], *q = a[(i + 1) % n];
+            double dp = K * p[2] + s * p[axis], dq = K * q[2] + s * q[axis];
+            if (dp >= 0) memcpy(b[m++], p, sizeof b[0]);
+            if ((dp >= 0) != (dq >= 0)) {
+                double w = dp / (dp - dq);
+                for (int c = 0; c < 3; c++) b[m][c] = p[c] + w * (q[c] - p[c]);
+                m++;
+            }
+        }
+        n = m;
+        memcpy(a, b, (size_t)n * sizeof a[0]);
+    }
+    for (int i = 0; i < n; i++) {
+        if (!(a[i][2] > 0)) return -1;
+        uv[i][0] = a[i][0] / a[i][2], uv[i][1] = a[i][1] / a[i][2];
+    }
+    return n;
+}
+
+/* The u-range of the convex polygon uv[n] within the strip lo <= v <= hi:
+ * its vertices inside and its edges' crossings of the two lines. false
+ * when it does not meet the strip. */
+static bool strip_range(const double uv[16][2], int n, double lo, double hi, double *umin, double *umax)
+{
+    double a = INFINITY, b = -INFINITY;
+    for (int i = 0; i < n; i++) {
+        const double *p = uv[i], *q = uv[(i + 1) % n];
+        if (p[1] >= lo && p[1] <= hi) a = fmin(a, p[0]), b = fmax(b, p[0]);
+        const double lines[2] = {lo, hi};
+        for (int k = 0; k < 2; k++)
+            if ((p[1] - lines[k]) * (q[1] - lines[k]) < 0) {
+                double x = p[0] + (lines[k] - p[1]) / (q[1] - p[1]) * (q[0] - p[0]);
+                a = fmin(a, x), b = fmax(b, x);
+            }
+    }
+    *umin = a, *umax = b;
+    return a <= b;
+}
+
+/* Cells i in 0..res-1 whose grown range [-1 + i h - M, -1 + (i + 1) h + M]
+ * meets [lo, hi]. */
+static void cell_span(double lo, double hi, uint32_t res, double M, int *i0, int *i1)
+{
+    const double h = 2.0 / res, eps = 1e-9;
+    double a = ceil((lo - M + 1.0) / h - 1.0 - eps), b = floor((hi + M + 1.0) / h + eps);
+    *i0 = a < 0 ? 0 : a > res - 1 ? (int)res : (int)a;
+    *i1 = b > res - 1 ? (int)res - 1 : b < 0 ? -1 : (int)b;
+}
+
+/* Conservative rasterisation of the convex u-v polygon on face f. */
+static void raster_uv(lb_raster *r, int f, const double uv[16][2], int n)
+{
+    const uint32_t res = r->t->res;
+    const double M = r->t->margin, h = 2.0 / res, eps = 1e-9;
+    double vmin = INFINITY, vmax = -INFINITY;
+    for (int i = 0; i < n; i++) vmin = fmin(vmin, uv[i][1]), vmax = fmax(vmax, uv[i][1]);
+    int j0, j1;
+    cell_span(vmin, vmax, res, M, &j0, &j1);
+    for (int j = j0; j <= j1; j++) {
+        double umin, umax;
+        double lo = -1.0 + j * h - M - eps, hi = -1.0 + (j + 1) * h + M + eps;
+        if (!strip_range(uv, n, lo, hi, &umin, &umax)) continue;
+        int i0, i1;
+        cell_span(umin - eps, umax + eps, res, M, &i0, &i1);
+        for (int i = i0; i <= i1; i++) mark_cell(r, ((uint32_t)f * res + (uint32_t)j) * res + (uint32_t)i);
+    }
+}
+
+static void raster_face(lb_raster *r, int f)
+{
+    uint32_t res = r->t->res;
+    for (uint32_t c = 0; c < res * res; c++) mark_cell(r, (uint32_t)f * res * res + c);
+}
+
+/* Project primitive r->id from light L onto the six faces. */
+static void raster_prim(lb_raster *r, dv L)
+{
+    const prims_t *p = r->t->p;
+    const double K = 1.0 + r->t->margin + 1e-9;
+    dv t[LB_MAX_PIECES][3];
+    bool more = true;
+    for (uint32_t from = 0; more;) {
+        uint32_t n = prim_pieces(p, r->id, from, t, &more);
+        from += n;
+        for (uint32_t i = 0; i < n; i++) {
+            dv rel[3];
+            for (int v = 0; v < 3; v++) rel[v] = dv_sub(t[i][v], L);
+            for (int f = 0; f < 6; f++) {
+                double uv[16][2];
+                int m = clip_project(rel, f, K, uv);
+                if (m < 0) raster_face(r, f);
+                else if (m > 0) raster_uv(r, f, uv, m);
+            }
+        }
+    }
+}
+
+/* --------------------------------------------------- full occlusion */
+
+/* Whether every direction d[0..3] lies strictly inside the cone from the
+ * light over triangle tri (relative to the light): the signed volumes
+ * (Cramer's coefficients) all of the triangle's sign, with a 1e-7
+ * relative margin. */
+static bool tri_covers(const dv tri[3], const dv d[4])
+{
+    dv bc = dv_cross(tri[1], tri[2]), ca = dv_cross(tri[2], tri[0]), ab = dv_cross(tri[0], tri[1]);
+    double det = dv_dot(tri[0], bc);
+    if (!(fabs(det) > 1e-9 * dv_len(tri[0]) * dv_len(tri[1]) * dv_len(tri[2]))) return false; /* its plane nearly holds the light */
+    double s = det > 0 ? 1.0 : -1.0;
+    const dv *cr[3] = {&bc, &ca, &ab};
+    for (int k = 0; k < 4; k++)
+        for (int e = 0; e < 3; e++)
+            if (!(s * dv_dot(*cr[e], d[k]) > 1e-7 * dv_len(*cr[e]) * dv_len(d[k]))) return false;
+    return true;
+}
+
+/* Whether polygon g's cone from the light is convex and holds every
+ * direction d[0..3] strictly inside (each on the inner side of every
+ * edge's plane through the light, 1e-7 relative margin); *D is then its
+ * farthest vertex distance. A concave cone is left to the ear triangles
+ * (all four corners in one of them). */
+static bool convex_poly_covers(const prims_t *p, const polygon_t *g, dv L, const dv d[4], double *D)
+{
+    uint32_t n = g->count;
+    dv nrm = dv_of(g->normal);
+    double far = 0, plane = 0;
+    dv axis = {{0, 0, 0}};
+    for (uint32_t k = 0; k < n; k++) {
+        dv v = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
+        far = fmax(far, dv_len(v));
+        plane += dv_dot(nrm, v) / n;
+        axis = dv_madd(axis, v, 1.0 / n);
+    }
+    if (!(fabs(plane) > 1e-9 * far)) return false; /* its plane nearly holds the light */
+    /* The inner side of edge k's plane is the side of the vertex centroid
+     * (inside a convex polygon; the vertex test below refuses the others). */
+    for (uint32_t k = 0; k < n; k++) {
+        dv a = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
+        dv b = dv_sub(dv_of(p->verts[p->poly_verts[g->first + (k + 1) % n]]), L);
+        dv e = dv_cross(a, b);
+        double le = dv_len(e);
+        if (!(le > 0)) return false;
+        double side = dv_dot(e, axis) >= 0 ? 1.0 : -1.0;
+        for (int c = 0; c < 4; c++)
+            if (!(side * dv_dot(e, d[c]) > 1e-7 * le * dv_len(d[c]))) return false;
+    }
+    /* Convex: every vertex on the inner side of every edge's plane (or on
+     * it); checked last, as few cells get this far. */
+    for (uint32_t k = 0; k < n; k++) {
+        dv a = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
+        dv b = dv_sub(dv_of(p->verts[p->poly_verts[g->first + (k + 1) % n]]), L);
+        dv e = dv_cross(a, b);
+        double le = dv_len(e), side = dv_dot(e, axis) >= 0 ? 1.0 : -1.0;
+        for (uint32_t m = 0; m < n; m++) {
+            dv v = dv_sub(dv_of(p->verts[p->poly_verts[g->first + m]]), L);
+            if (side * dv_dot(e, v) < -1e-9 * le * dv_len(v)) return false;
+        }
+    }
+    *D = far;
+    return true;
+}
+
+/* The full-occlusion depth of primitive id over the grown cell whose four
+ * corner directions are d (the farthest distance at which every direction
+ * of the cell has met it), or +inf when it does not cover the cell. */
+static double cover_depth(const prims_t *p, uint32_t id, dv L, const dv d[4])
+{
+    uint32_t k = p->index[id];
+    if (p->kind[id] == PRIM_SPHERE) {
+        dv c = dv_sub(dv_of(p->spheres[k].center), L);
+        double dist = dv_len(c), r = p->spheres[k].radius;
+        if (!(dist > r)) return INFINITY;
+        double cosa = sqrt(dist * dist - r * r) / dist;
+        for (int i = 0; i < 4; i++)
+            if (!(dv_dot(c, d[i]) / (dist * dv_len(d[i])) > cosa * (1 + 1e-7) + 1e-9)) return INFINITY;
+        return dist;
+    }
+    if (p->kind[id] == PRIM_CONE || prim_degenerate(p, id)) return INFINITY;
+    if (p->kind[id] == PRIM_POLYGON) {
+        double D;
+        if (convex_poly_covers(p, &p->polygons[k], L, d, &D)) return D;
+    }
+    dv t[LB_MAX_PIECES][3];
+    bool more = true;
+    for (uint32_t from = 0; more;) {
+        uint32_t n = prim_pieces(p, id, from, t, &more);
+        from += n;
+        for (uint32_t i = 0; i < n; i++) {
+            dv rel[3];
+            for (int v = 0; v < 3; v++) rel[v] = dv_sub(t[i][v], L);
+            if (tri_covers(rel, d)) return fmax(fmax(dv_len(rel[0]), dv_len(rel[1])), dv_len(rel[2]));
+        }
+    }
+    return INFINITY;
+}
+
+/* The four corner directions of cell `cell` grown by M. */
+static void cell_corners(const lb_t *t, uint32_t cell, dv d[4])
+{
+    uint32_t res = t->res, f = cell / (res * res), j = cell / res % res, i = cell % res;
+    double h = 2.0 / res, M = t->margin;
+    double u0 = -1.0 + i * h - M, u1 = -1.0 + (i + 1) * h + M, v0 = -1.0 + j * h - M, v1 = -1.0 + (j + 1) * h + M;
+    d[0] = face_dir((int)f, u0, v0), d[1] = face_dir((int)f, u1, v0), d[2] = face_dir((int)f, u0, v1), d[3] = face_dir((int)f, u1, v1);
+}
+
+/* ------------------------------------------------------------ culling */
+
+/* Culling's build-time part: comp[id] is the component of primitive id
+ * when it lies wholly on one qualifying closed convex component (see the
+ * header), else LB_NONE; ctris[] are the triangles of the qualifying
+ * components, grouped by component (cfirst[c] .. cfirst[c + 1]). */
+typedef struct {
+    uint32_t *comp;
+    uint32_t ncomps;
+    uint32_t *cfirst;
+    dv (*ctris)[3];
+    uint32_t (*ctv)[3]; /* their vertices' canonical ids (position classes) */
+    bool *ok;           /* [ncomps] the component qualifies */
+} lb_cullinfo;
+
+typedef struct { uint32_t a, b, tri; } lb_edge;
+
+static const float *vkey_base;
+static int vkey_cmp(const void *x, const void *y)
+{
+    const float *a = vkey_base + 3 * (size_t)*(const uint32_t *)x, *b = vkey_base + 3 * (size_t)*(const uint32_t *)y;
+    for (int k = 0; k < 3; k++)
+        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+static int edge_cmp(const void *x, const void *y)
+{
+    const lb_edge *a = x, *b = y;
+    uint32_t a0 = a->a < a->b ? a->a : a->b, a1 = a->a ^ a->b ^ a0, b0 = b->a < b->b ? b->a : b->b, b1 = b->a ^ b->b ^ b0;
+    if (a0 != b0) return a0 < b0 ? -1 : 1;
+    if (a1 != b1) return a1 < b1 ? -1 : 1;
+    return a->a < b->a ? -1 : a->a > b->a;
+}
+
+static uint32_t uf_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+/* Whether every vertex of the triangles tr[0..n) lies behind or on every
+ * one of their planes, up to LB_CULL_FLAT times the diagonal of their box:
+ * float vertices of coplanar faces (a rotated box's split quads) are never
+ * exactly coplanar. Triangles of (nearly) zero area have no plane to
+ * check. */
+static bool comp_volume_positive(dv (*tr)[3], uint32_t n)
+{
+    double vol = 0;
+    for (uint32_t j = 0; j < n; j++) vol += dv_dot(tr[j][0], dv_cross(tr[j][1], tr[j][2]));
+    return vol > 0;
+}
+
+static bool comp_convex(dv (*tr)[3], uint32_t n)
+{
+    dv lo = tr[0][0], hi = tr[0][0];
+    for (uint32_t j = 0; j < n; j++)
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) lo.v[k] = fmin(lo.v[k], tr[j][v].v[k]), hi.v[k] = fmax(hi.v[k], tr[j][v].v[k]);
+    double diag = dv_len(dv_sub(hi, lo)), tol = LB_CULL_FLAT * diag;
+    for (uint32_t i = 0; i < n; i++) {
+        dv nrm = dv_cross(dv_sub(tr[i][1], tr[i][0]), dv_sub(tr[i][2], tr[i][0]));
+        double ln = dv_len(nrm);
+        if (!(ln > 1e-12 * diag * diag)) continue;
+        for (uint32_t j = 0; j < n; j++)
+            for (int v = 0; v < 3; v++)
+                if (dv_dot(nrm, dv_sub(tr[j][v], tr[i][0])) > tol * ln) return false;
+    }
+    return true;
+}
+
+/* --- embedded components: no two triangles meet but where the mesh joins them --- */
+
+/* Whether triangles a and b (no shared vertex) are separated along one of
+ * the axes of the separating axis test (their normals, the cross products
+ * of their edges, and the in-plane normals of every edge, for coplanar
+ * ones) by a gap of more than tol. */
+static bool tris_apart(const dv a[3], const dv b[3], double tol)
+{
+    dv ea[3], eb[3], ax[23];
+    for (int k = 0; k < 3; k++) ea[k] = dv_sub(a[(k + 1) % 3], a[k]), eb[k] = dv_sub(b[(k + 1) % 3], b[k]);
+    dv na = dv_cross(ea[0], ea[1]), nb = dv_cross(eb[0], eb[1]);
+    int n = 0;
+    ax[n++] = na, ax[n++] = nb;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) ax[n++] = dv_cross(ea[i], eb[j]);
+    for (int k = 0; k < 3; k++) ax[n++] = dv_cross(na, ea[k]), ax[n++] = dv_cross(na, eb[k]);
+    for (int k = 0; k < n; k++) {
+        double l = dv_len(ax[k]);
+        if (!(l > 0)) continue;
+        double alo = INFINITY, ahi = -INFINITY, blo = INFINITY, bhi = -INFINITY;
+        for (int v = 0; v < 3; v++) {
+            double x = dv_dot(ax[k], a[v]) / l, y = dv_dot(ax[k], b[v]) / l;
+            alo = fmin(alo, x), ahi = fmax(ahi, x), blo = fmin(blo, y), bhi = fmax(bhi, y);
+        }
+        if (ahi + tol < blo || bhi + tol < alo) return true;
+    }
+    return false;
+}
+
+/* Whether triangles a and b, sharing exactly vertex a[ia] = b[ib], meet
+ * only there: a plane through it has a's other vertices on one side and
+ * b's strictly on the other (by an angle of 1e-7), the candidates being
+ * the separating axis test's (two wedges meeting only at their apex are
+ * separated by such a plane). On the near side a vertex may lie in the
+ * plane (coplanar fans: the separating line runs along an edge). */
+static bool tris_touch_at_vertex(const dv a[3], int ia, const dv b[3], int ib)
+{
+    dv v = a[ia], ra[2], rb[2];
+    for (int k = 0, m = 0; k < 3; k++)
+        if (k != ia) ra[m++] = dv_sub(a[k], v);
+    for (int k = 0, m = 0; k < 3; k++)
+        if (k != ib) rb[m++] = dv_sub(b[k], v);
+    dv ea[3] = {ra[0], ra[1], dv_sub(ra[1], ra[0])}, eb[3] = {rb[0], rb[1], dv_sub(rb[1], rb[0])};
+    dv na = dv_cross(ra[0], ra[1]), nb = dv_cross(rb[0], rb[1]), ax[2 + 9 + 12];
+    int n = 0;
+    ax[n++] = na, ax[n++] = nb;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) ax[n++] = dv_cross(ea[i], eb[j]);
+    for (int k = 0; k < 3; k++)
+        ax[n++] = dv_cross(na, ea[k]), ax[n++] = dv_cross(na, eb[k]), ax[n++] = dv_cross(nb, ea[k]),
+        ax[n++] = dv_cross(nb, eb[k]);
+    for (int k = 0; k < n; k++) {
+        double l = dv_len(ax[k]);
+        if (!(l > 0)) continue;
+        double amax = -INFINITY, amin = INFINITY, bmax = -INFINITY, bmin = INFINITY;
+        for (int m = 0; m < 2; m++) {
+            double x = dv_dot(ax[k], ra[m]) / (l * dv_len(ra[m])), y = dv_dot(ax[k], rb[m]) / (l * dv_len(rb[m]));
+            amax = fmax(amax, x), amin = fmin(amin, x), bmax = fmax(bmax, y), bmin = fmin(bmin, y);
+        }
+        /* a below (touching allowed) and b strictly above, or the mirror. */
+        if ((amax <= 1e-12 && bmin > 1e-7) || (bmax <= 1e-12 && amin > 1e-7) || (amin >= -1e-12 && bmax < -1e-7) ||
+            (bmin >= -1e-12 && amax < -1e-7))
+            return true;
+    }
+    return false;
+}
+
+/* Whether triangles a and b, sharing the edge from a[i] to a[(i+1)%3]
+ * (b's vertex off it is b[jb]), meet only along it: their third vertices,
+ * seen across the edge, are not folded onto one another (more than about
+ * 1e-6 radians apart). */
+static bool tris_touch_at_edge(const dv a[3], int i, const dv b[3], int jb)
+{
+    dv p = a[i], e = dv_sub(a[(i + 1) % 3], p);
+    double ee = dv_dot(e, e);
+    if (!(ee > 0)) return false;
+    dv wa = dv_sub(a[(i + 2) % 3], p), wb = dv_sub(b[jb], p);
+    dv pa = dv_madd(wa, e, -dv_dot(wa, e) / ee), pb = dv_madd(wb, e, -dv_dot(wb, e) / ee);
+    double la = dv_len(pa), lb = dv_len(pb);
+    if (!(la > 0 && lb > 0)) return false;
+    return dv_dot(pa, pb) / (la * lb) < 1.0 - 1e-12;
+}
+
+/* How many of b's vertices (canonical ids) are among a's; *ia, *ib: the
+ * last such pair's indices, *off: the last vertex of b that is not. */
+static int shared_vertices(const uint32_t a[3], const uint32_t b[3], int *ia, int *ib, int *off)
+{
+    int n = 0;
+    for (int j = 0; j < 3; j++) {
+        bool in = false;
+        for (int i = 0; i < 3; i++)
+            if (a[i] == b[j]) in = true, *ia = i, *ib = j;
+        n += in;
+        if (!in) *off = j;
+    }
+    return n;
+}
+
+/* The pair i, j of a component passes when it meets only where the mesh
+ * joins it (see the three tests above). A triangle with a repeated vertex
+ * fails against its neighbours (not culling is safe). */
+static bool pair_ok(dv (*tr)[3], uint32_t (*tv)[3], uint32_t i, uint32_t j, double tol)
+{
+    int ia = 0, ib = 0, off = 0;
+    int shared = shared_vertices(tv[i], tv[j], &ia, &ib, &off);
+    if (shared == 0) return tris_apart(tr[i], tr[j], tol);
+    if (shared == 1) return tris_touch_at_vertex(tr[i], ia, tr[j], ib);
+    if (shared != 2) return false;
+    /* The edge of a whose two ends are both b's. */
+    for (int k = 0; k < 3; k++) {
+        uint32_t x = tv[i][k], y = tv[i][(k + 1) % 3];
+        bool xin = x == tv[j][0] || x == tv[j][1] || x == tv[j][2], yin = y == tv[j][0] || y == tv[j][1] || y == tv[j][2];
+        if (xin && yin && x != y) return tris_touch_at_edge(tr[i], k, tr[j], off);
+    }
+    return false;
+}
+
+/* Whether the closed component of triangles tr[0..n) is embedded: every
+ * pair whose boxes (grown by tol) overlap meets only at the vertices and
+ * edges they share, non-adjacent ones at least tol apart; found through
+ * the kit's BVH over the grown boxes. Its signed volume must also be
+ * positive (outward). false out of memory too (not culling is safe). */
+static bool comp_embedded(dv (*tr)[3], uint32_t (*tv)[3], uint32_t n)
+{
+    dv lo = tr[0][0], hi = tr[0][0];
+    double vol = 0;
+    for (uint32_t j = 0; j < n; j++) {
+        vol += dv_dot(tr[j][0], dv_cross(tr[j][1], tr[j][2]));
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) lo.v[k] = fmin(lo.v[k], tr[j][v].v[k]), hi.v[k] = fmax(hi.v[k], tr[j][v].v[k]);
+    }
+    double diag = dv_len(dv_sub(hi, lo)), tol = 1e-9 * diag;
+    if (!(vol > 1e-12 * diag * diag * diag)) return false;
+    box3 *boxes = malloc((size_t)n * sizeof *boxes);
+    uint32_t *stack = NULL;
+    bvh_t b = {0};
+    bool ok = false;
+    if (!boxes) return false;
+    for (uint32_t j = 0; j < n; j++) {
+        box3 x = box_empty();
+        for (int v = 0; v < 3; v++) {
+            vec3 q = v3((float)tr[j][v].v[0], (float)tr[j][v].v[1], (float)tr[j][v].v[2]);
+            x = box_grow(x, q);
+        }
+        float g = (float)(2 * tol) + 1e-30f;
+        x.lo = v3(nextafterf(x.lo.x - g, -INFINITY), nextafterf(x.lo.y - g, -INFINITY), nextafterf(x.lo.z - g, -INFINITY));
+        x.hi = v3(nextafterf(x.hi.x + g, INFINITY), nextafterf(x.hi.y + g, INFINITY), nextafterf(x.hi.z + g, INFINITY));
+        boxes[j] = x;
+    }
+    bvh_config cfg;
+    bvh_config_defaults(&cfg);
+    if (bvh_build_sah(&b, boxes, NULL, n, &cfg) || !b.nnodes) goto out;
+    stack = malloc(((size_t)b.max_depth + 2) * 2 * sizeof *stack);
+    if (!stack) goto out;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t top = 0;
+        stack[top++] = 0;
+        while (top) {
+            const bvh_node *nd = &b.nodes[stack[--top]];
+            if (!box_overlap(nd->box, boxes[i])) continue;
+            if (nd->count == 0) {
+                stack[top++] = nd->index, stack[top++] = nd->index + 1;
+                continue;
+            }
+            for (uint32_t k = 0; k < nd->count; k++) {
+                uint32_t j = b.refs[nd->index + k];
+                if (j > i && box_overlap(boxes[i], boxes[j]) && !pair_ok(tr, tv, i, j, tol)) goto out;
+            }
+        }
+    }
+    ok = true;
+out:
+    free(boxes);
+    free(stack);
+    bvh_free(&b);
+    return ok;
+}
+
+static void cullinfo_free(lb_cullinfo *ci)
+{
+    free(ci->comp);
+    free(ci->cfirst);
+    free(ci->ctris);
+    free(ci->ctv);
+    free(ci->ok);
+    memset(ci, 0, sizeof *ci);
+}
+
+/* The cull analysis (header, cull=on). Returns 0, or -1 out of memory. */
+static int cullinfo_build(const prims_t *p, lb_cullinfo *ci)
+{
+    memset(ci, 0, sizeof *ci);
+    uint32_t ntri = p->ntris + p->npoly_tris, nv = p->nverts;
+    uint32_t *tv = malloc(((size_t)ntri * 3 + 1) * sizeof *tv), *owner = malloc(((size_t)ntri + 1) * sizeof *owner);
+    uint32_t *order = malloc(((size_t)nv + 1) * sizeof *order), *canon = malloc(((size_t)nv + 1) * sizeof *canon);
+    lb_edge *edges = malloc(((size_t)ntri * 3 + 1) * sizeof *edges);
+    uint32_t *parent = malloc(((size_t)ntri + 1) * sizeof *parent), *bad = calloc((size_t)ntri + 1, sizeof *bad);
+    ci->comp = malloc(((size_t)p->count + 1) * sizeof *ci->comp);
+    int rc = -1;
+    if (!tv || !owner || !order || !canon || !edges || !parent || !bad || !ci->comp) goto out;
+    /* Every triangle and polygon ear triangle, with its owner. */
+    uint32_t m = 0;
+    for (uint32_t id = 0; id < p->count; id++) {
+        ci->comp[id] = LB_NONE;
+        uint32_t k = p->index[id];
+        if (p->kind[id] == PRIM_TRIANGLE) {
+            memcpy(&tv[3 * m], p->tris[k].v, 3 * sizeof *tv);
+            owner[m++] = id;
+        } else if (p->kind[id] == PRIM_POLYGON) {
+            const polygon_t *g = &p->polygons[k];
+            for (uint32_t t = 0; t + 2 < g->count; t++) {
+                memcpy(&tv[3 * m], p->poly_tris[g->tri_first + t].v, 3 * sizeof *tv);
+                owner[m++] = id;
+            }
+        }
+    }
+    ntri = m;
+    /* Vertices matched by exact position. */
+    for (uint32_t i = 0; i < nv; i++) order[i] = i;
+    vkey_base = &p->verts[0].x;
+    qsort(order, nv, sizeof *order, vkey_cmp);
+    for (uint32_t i = 0; i < nv; i++) canon[order[i]] = i && !vkey_cmp(&order[i], &order[i - 1]) ? canon[order[i - 1]] : order[i];
+    /* Directed edges; an undirected edge must be used exactly once each way. */
+    uint32_t ne = 0;
+    for (uint32_t t = 0; t < ntri; t++) {
+        parent[t] = t;
+        for (int e = 0; e < 3; e++) {
+            uint32_t a = canon[tv[3 * t + e]], b = canon[tv[3 * t + (e + 1) % 3]];
+            if (a != b) edges[ne++] = (lb_edge){a, b, t};
+        }
+    }
+    qsort(edges, ne, sizeof *edges, edge_cmp);
+    for (uint32_t i = 0; i < ne;) {
+        /* One undirected edge's uses: sorted together by edge_cmp. */
+        uint32_t j = i + 1;
+        while (j < ne && (edges[j].a == edges[i].a || edges[j].a == edges[i].b) &&
+               (edges[j].b == edges[i].a || edges[j].b == edges[i].b))
+            j++;
+        bool ok = j - i == 2 && edges[i].a == edges[i + 1].b && edges[i].b == edges[i + 1].a;
+        for (uint32_t k = i; k < j; k++) {
+            uint32_t x = uf_find(parent, edges[i].tri), y = uf_find(parent, edges[k].tri);
+            if (x != y) parent[x] = y;
+            if (!ok) bad[edges[k].tri] = 1;
+        }
+        i = j;
+    }
+    /* Components: bad if any triangle is, too large, or not convex. */
+    uint32_t *cid = malloc(((size_t)ntri + 1) * sizeof *cid), *csize = calloc((size_t)ntri + 1, sizeof *csize);
+    if (!cid || !csize) {
+        free(cid), free(csize);
+        goto out;
+    }
+    for (uint32_t t = 0; t < ntri; t++) {
+        uint32_t r = uf_find(parent, t);
+        csize[r]++;
+        if (bad[t]) bad[r] = 1;
+    }
+    /* Number the qualifying roots; their triangles grouped. */
+    uint32_t nc = 0;
+    for (uint32_t t = 0; t < ntri; t++) cid[t] = LB_NONE;
+    for (uint32_t t = 0; t < ntri; t++)
+        if (parent[t] == t && !bad[t]) cid[t] = nc++;
+    ci->cfirst = calloc((size_t)nc + 2, sizeof *ci->cfirst);
+    uint32_t total = 0;
+    for (uint32_t t = 0; t < ntri; t++) {
+        uint32_t c = cid[uf_find(parent, t)];
+        if (c != LB_NONE) ci->cfirst[c + 1]++, total++;
+    }
+    ci->ctris = malloc(((size_t)total + 1) * sizeof *ci->ctris);
+    ci->ctv = malloc(((size_t)total + 1) * sizeof *ci->ctv);
+    ci->ok = calloc((size_t)nc + 1, sizeof *ci->ok);
+    if (!ci->cfirst || !ci->ctris || !ci->ctv || !ci->ok) {
+        free(cid), free(csize);
+        goto out;
+    }
+    for (uint32_t c = 0; c < nc; c++) ci->cfirst[c + 1] += ci->cfirst[c];
+    memset(csize, 0, ((size_t)nc + 1) * sizeof *csize); /* fill cursors */
+    for (uint32_t t = 0; t < ntri; t++) {
+        uint32_t c = cid[uf_find(parent, t)];
+        if (c == LB_NONE) continue;
+        uint32_t slot = ci->cfirst[c] + csize[c]++;
+        for (int v = 0; v < 3; v++) ci->ctris[slot][v] = dv_of(p->verts[tv[3 * t + v]]), ci->ctv[slot][v] = canon[tv[3 * t + v]];
+    }
+    ci->ncomps = nc;
+    /* Convex (small components: the check is quadratic), else embedded. */
+    for (uint32_t c = 0; c < nc; c++) {
+        uint32_t f = ci->cfirst[c], m = ci->cfirst[c + 1] - f;
+        ci->ok[c] = (m <= LB_CULL_MAX_TRIS && comp_convex(&ci->ctris[f], m) && comp_volume_positive(&ci->ctris[f], m)) ||
+                    comp_embedded(&ci->ctris[f], &ci->ctv[f], m);
+    }
+    /* A primitive qualifies when all its triangles are in one qualifying component. */
+    for (uint32_t t = 0; t < ntri; t++) {
+        uint32_t c = cid[uf_find(parent, t)], id = owner[t];
+        uint32_t want = c != LB_NONE && ci->ok[c] ? c : LB_NONE;
+        bool first = t == 0 || owner[t - 1] != id;
+        if (first) ci->comp[id] = want;
+        else if (ci->comp[id] != want) ci->comp[id] = LB_NONE;
+    }
+    free(cid);
+    free(csize);
+    rc = 0;
+out:
+    free(tv), free(owner), free(order), free(canon), free(edges), free(parent), free(bad);
+    if (rc) cullinfo_free(ci);
+    return rc;
+}
+
+/* The solid angle of triangle abc (relative to the viewpoint) over 4 pi,
+ * signed by its winding (Van Oosterom and Strackee's formula). */
+static double solid_fraction(dv a, dv b, dv c)
+{
+    double la = dv_len(a), lb = dv_len(b), lc = dv_len(c);
+    double num = dv_dot(a, dv_cross(b, c));
+    double den = la * lb * lc + dv_dot(a, b) * lc + dv_dot(a, c) * lb + dv_dot(b, c) * la;
+    return atan2(num, den) / (2 * M_PI);
+}
+
+/* Per light: which qualifying components the light lies outside of, more
+ * than rho from every triangle (so every point within rho / 4096 of the
+ * light is outside too): the winding number, the sum of the triangles'
+ * solid angles over 4 pi, is 0 (within 1/4) there, 1 inside. */
+static bool *cull_outside(const lb_cullinfo *ci, dv L, double rho)
+{
+    bool *out = calloc((size_t)ci->ncomps + 1, sizeof *out);
+    if (!out) return NULL;
+    for (uint32_t c = 0; c < ci->ncomps; c++) {
+        if (!ci->ok[c]) continue;
+        double w = 0, dmin = INFINITY;
+        for (uint32_t t = ci->cfirst[c]; t < ci->cfirst[c + 1]; t++) {
+            dv *tr = ci->ctris[t];
+            dv a = dv_sub(tr[0], L), b = dv_sub(tr[1], L), d = dv_sub(tr[2], L);
+            w += solid_fraction(a, b, d);
+            dmin = fmin(dmin, dist_point_triangle(L, tr[0], tr[1], tr[2]));
+        }
+        out[c] = fabs(w) < 0.25 && dmin > rho;
+    }
+    return out;
+}
+
+/* Whether primitive id is culled for light L: on a qualifying component
+ * the light is outside of, every non-degenerate triangle of it with the
+ * light at least rho / 2 behind its plane (and at least one such). */
+static bool prim_culled(const prims_t *p, const lb_cullinfo *ci, const bool *outside, uint32_t id, dv L, double rho)
+{
+    uint32_t c = ci->comp[id];
+    if (c == LB_NONE || !outside[c]) return false;
+    dv t[LB_MAX_PIECES][3];
+    bool more = true, any = false;
+    for (uint32_t from = 0; more;) {
+        uint32_t n = prim_pieces(p, id, from, t, &more);
+        from += n;
+        for (uint32_t i = 0; i < n; i++) {
+            dv nrm = dv_cross(dv_sub(t[i][1], t[i][0]), dv_sub(t[i][2], t[i][0]));
+            double ln = dv_len(nrm);
+            if (!(ln > 0)) continue;
+            if (!(dv_dot(nrm, dv_sub(L, t[i][0])) < -0.5 * rho * ln)) return false;
+            any = true;
+        }
+    }
+    return any;
+}
+
+/* -------------------------------------------------------------- build */
+
+static void lb_destroy(accel *a)
+{
+    lb_t *t = (lb_t *)a;
+    if (!t) return;
+    for (uint32_t l = 0; t->lights && l < t->nlights; l++) {
+        free(t->lights[l].cells);
+        free(t->lights[l].refs);
+        free(t->lights[l].near);
+        free(t->lights[l].slabs);
+    }
+    free(t->lights);
+    bvh_free(&t->fallback);
+    free(t);
+}
+
+static int ref_cmp(const void *x, const void *y)
+{
+    const lb_ref *a = x, *b = y;
+    if (a->depth != b->depth) return a->depth < b->depth ? -1 : 1;
+    return a->id < b->id ? -1 : a->id > b->id;
+}
+
+/* Rounded toward -inf / +inf from double to float (for depths). */
+static float round_down(double x) { float f = (float)x; return (double)f > x ? nextafterf(f, -INFINITY) : f; }
+static float round_up(double x) { float f = (float)x; return (double)f < x ? nextafterf(f, INFINITY) : f; }
+
+/* The slab of polygon (or triangle) id: its unit normal and the range of
+ * n . x over its vertices, rounded outward with room. */
+static lb_slab prim_slab(const prims_t *p, uint32_t id)
+{
+    dv t[LB_MAX_PIECES][3];
+    bool more = true;
+    uint32_t n = prim_pieces(p, id, 0, t, &more);
+    dv nrm = {{0, 0, 0}};
+    if (p->kind[id] == PRIM_POLYGON) nrm = dv_of(p->polygons[p->index[id]].normal);
+    else if (n) nrm = dv_cross(dv_sub(t[0][1], t[0][0]), dv_sub(t[0][2], t[0][0]));
+    double ln = dv_len(nrm);
+    lb_slab s = {v3(0, 0, 0), INFINITY, -INFINITY};
+    if (!(ln > 0)) return s;
+    s.n = v3((float)(nrm.v[0] / ln), (float)(nrm.v[1] / ln), (float)(nrm.v[2] / ln));
+    dv nf = dv_of(s.n);
+    double lo = INFINITY, hi = -INFINITY, mag = 0;
+    more = true;
+    for (uint32_t from = 0; more;) {
+        n = prim_pieces(p, id, from, t, &more);
+        from += n;
+        for (uint32_t i = 0; i < n; i++)
+            for (int v = 0; v < 3; v++) {
+                double x = dv_dot(nf, t[i][v]);
+                lo = fmin(lo, x), hi = fmax(hi, x), mag = fmax(mag, dv_len(t[i][v]));
+            }
+    }
+    double slack = 1e-6 * mag + 1e-30;
+    s.lo = round_down(lo - slack), s.hi = round_up(hi + slack);
+    return s;
+}
+
+/* The fullocc and single simplifications of one light's sorted cells,
+ * then the runs compacted. Returns 0, -1 out of memory or -2 over the
+ * memory cap with the slabs (err set). */
+static int finish_cells(lb_t *t, lb_light *L, const float *occ, uint64_t cap_mib, uint64_t *used, char *err,
+                        size_t errlen)
+{
+    const prims_t *p = t->p;
+    uint32_t w = 0, nsingle = 0;
+    for (uint32_t c = 0; c < t->ncells; c++) {
+        lb_cell *cell = &L->cells[c];
+        lb_ref *run = &L->refs[cell->first];
+        qsort(run, cell->count, sizeof *run, ref_cmp);
+        cell->occ = t->fullocc ? occ[c] : INFINITY;
+        uint32_t keep = cell->count;
+        while (keep && run[keep - 1].depth > cell->occ) keep--; /* deeper than the record: never reached */
+        memmove(&L->refs[w], run, keep * sizeof *run);
+        cell->first = w, cell->count = keep, cell->single = LB_NONE;
+        w += keep;
+        if (t->single && keep == 1 && (p->kind[L->refs[cell->first].id] == PRIM_TRIANGLE ||
+                                       p->kind[L->refs[cell->first].id] == PRIM_POLYGON))
+            nsingle++;
+    }
+    L->nrefs = w;
+    if (w) {
+        lb_ref *shrunk = realloc(L->refs, (size_t)w * sizeof *L->refs);
+        if (shrunk) L->refs = shrunk;
+    }
+    if (!nsingle) return 0;
+    *used = memcap_add(*used, memcap_mul(nsingle, sizeof(lb_slab)));
+    if (memcap_exceeded(*used, cap_mib, err, errlen, "the lightbuf lists and single-polygon slabs with its cells and fallback"))
+        return -2;
+    L->slabs = malloc((size_t)nsingle * sizeof *L->slabs);
+    if (!L->slabs) return -1;
+    for (uint32_t c = 0; c < t->ncells; c++) {
+        lb_cell *cell = &L->cells[c];
+        if (cell->count != 1) continue;
+        uint32_t id = L->refs[cell->first].id;
+        if (p->kind[id] != PRIM_TRIANGLE && p->kind[id] != PRIM_POLYGON) continue;
+        lb_slab s = prim_slab(p, id);
+        if (!(s.lo <= s.hi)) continue;
+        cell->single = L->nslabs;
+        L->slabs[L->nslabs++] = s;
+    }
+    return 0;
+}
+
+/* One light's buffer: near list, two projection passes (count, fill),
+ * sort and simplify. err set on failure (memcap or out of memory). */
+static int build_light(lb_t *t, lb_light *L, const lb_cullinfo *ci, uint64_t cap_mib, uint64_t *used, char *err,
+                       size_t errlen)
+{
+    const prims_t *p = t->p;
+    const uint32_t n = p->count;
+    dv Lp = {{L->pos[0], L->pos[1], L->pos[2]}};
+    /* rho from the light's reach: the far corner of the scene box. */
+    double reach = 0;
+    for (int i = 0; i < 8; i++) {
+        dv c = {{i & 1 ? p->box.hi.x : p->box.lo.x, i & 2 ? p->box.hi.y : p->box.lo.y, i & 4 ? p->box.hi.z : p->box.lo.z}};
+        reach = fmax(reach, dv_len(dv_sub(c, Lp)));
+    }
+    L->rho = LB_RHO_FRAC * reach;
+    float *depth = malloc(((size_t)n + 1) * sizeof *depth);
+    uint8_t *cls = malloc((size_t)n + 1); /* 0: skipped, 1: near, 2: projected */
+    uint32_t *stamp = calloc(t->ncells, sizeof *stamp), *count = calloc(t->ncells, sizeof *count);
+    float *occ = malloc((size_t)t->ncells * sizeof *occ);
+    bool *outside = t->cull ? cull_outside(ci, Lp, L->rho) : NULL;
+    lb_raster r = {.t = t, .L = L, .stamp = stamp, .count = count, .fill = false};
+    int rc = -1;
+    if (!depth || !cls || !stamp || !count || !occ || (t->cull && !outside)) goto oom;
+    /* Classify: degenerate (never hit) and culled primitives are left out. */
+    for (uint32_t id = 0; id < n; id++) {
+        cls[id] = 0;
+        if (prim_degenerate(p, id)) continue;
+        if (t->cull && prim_culled(p, ci, outside, id, Lp, L->rho)) {
+            L->nculled++;
+            continue;
+        }
+        double d = prim_min_dist(p, id, Lp);
+        depth[id] = round_down(fmax(0.0, d) * (1 - LB_DEPTH_SLACK));
+        cls[id] = d <= L->rho ? 1 : 2;
+        L->nnear += cls[id] == 1;
+    }
+    /* Pass 1: count every cell's refs. */
+    for (uint32_t id = 0; id < n; id++)
+        if (cls[id] == 2) r.id = id, raster_prim(&r, Lp);
+    if (r.total > UINT32_MAX) { /* runs are addressed by 32-bit offsets */
+        snprintf(err, errlen, "lightbuf: %llu cell refs for one light, above 2^32 - 1: lower res",
+                 (unsigned long long)r.total);
+        rc = -2;
+        goto out;
+    }
+    uint64_t bytes = memcap_add(memcap_mul(r.total, sizeof(lb_ref)), memcap_mul(L->nnear, sizeof(lb_ref)));
+    *used = memcap_add(*used, bytes);
+    if (memcap_exceeded(*used, cap_mib, err, errlen, "the lightbuf lists (%llu cell refs) with its cells and fallback",
+                        (unsigned long long)r.total)) {
+        rc = -2;
+        goto out;
+    }
+    L->refs = malloc((size_t)r.total * sizeof *L->refs + 1);
+    L->near = malloc((size_t)L->nnear * sizeof *L->near + 1);
+    if (!L->refs || !L->near) goto oom;
+    uint32_t first = 0;
+    for (uint32_t c = 0; c < t->ncells; c++) L->cells[c].first = first, L->cells[c].count = count[c], first += count[c];
+    /* Pass 2: fill, and find every cell's full-occlusion depth. */
+    memset(stamp, 0, t->ncells * sizeof *stamp);
+    memset(count, 0, t->ncells * sizeof *count);
+    for (uint32_t c = 0; c < t->ncells; c++) occ[c] = INFINITY;
+    r.fill = true, r.total = 0;
+    uint32_t nn = 0;
+    for (uint32_t id = 0; id < n; id++) {
+        if (cls[id] == 1) L->near[nn++] = (lb_ref){id, depth[id]};
+        if (cls[id] != 2) continue;
+        r.id = id, r.depth = depth[id], r.nmarked = 0;
+        raster_prim(&r, Lp);
+        if (r.oom) goto oom;
+        if (!t->fullocc) continue;
+        for (uint32_t k = 0; k < r.nmarked; k++) {
+            uint32_t c = r.marked[k];
+            dv d[4];
+            cell_corners(t, c, d);
+            double D = cover_depth(p, id, Lp, d);
+            if (D < INFINITY) occ[c] = fminf(occ[c], round_up(D * (1 + LB_DEPTH_SLACK)));
+        }
+    }
+    qsort(L->near, L->nnear, sizeof *L->near, ref_cmp);
+    rc = finish_cells(t, L, occ, cap_mib, used, err, errlen);
+    if (rc == -1) goto oom;
+    goto out;
+oom:
+    snprintf(err, errlen, "lightbuf: out of memory building the buffer of a light over %u primitives", n);
+out:
+    free(depth), free(cls), free(stamp), free(count), free(occ), free(outside), free(r.marked);
+    return rc;
+}
+
+/* What the build holds before its lists: the cells of every light, the
+ * fallback BVH with its build scratch, the per-light scratch. */
+static uint64_t base_bytes(const prims_t *p, uint64_t nlights, uint64_t ncells, bool cull)
+{
+    uint64_t n = p->count;
+    uint64_t b = memcap_mul(memcap_mul(nlights, ncells), sizeof(lb_cell));
+    b = memcap_add(b, memcap_mul(n ? 2 * n : 1, sizeof(bvh_node)));
+    b = memcap_add(b, memcap_mul(n, sizeof(uint32_t) + sizeof(box3) + 2 * sizeof(vec3) + 4 + 1));
+    b = memcap_add(b, memcap_mul(ncells, 3 * sizeof(uint32_t)));
+    if (!cull) return b;
+    /* The cull analysis: per triangle its vertices, owner, three edges,
+     * union-find, flags, component numbers and a copy in double; per
+     * vertex its order and canonical id. */
+    uint64_t ntri = (uint64_t)p->ntris + p->npoly_tris;
+    b = memcap_add(b, memcap_mul(ntri, 12 + 4 + 3 * sizeof(lb_edge) + 4 + 4 + 8 + 3 * sizeof(dv) + 12 + 1));
+    /* The embedded test's BVH over the component's boxes (the largest
+     * component is at most every triangle). */
+    b = memcap_add(b, memcap_mul(ntri, sizeof(box3) + 2 * sizeof(bvh_node) + 4 + 8 + 2 * sizeof(vec3) + 12));
+    return memcap_add(b, memcap_mul(p->nverts, 8));
+}
+
+static int on_off(const accel_params *params, const char *key, bool *out, char *err, size_t errlen)
+{
+    static const char *const words[] = {"off", "on", NULL};
+    int v;
+    if (params_get_choice(params, key, words, &v, err, errlen)) return -1;
+    *out = v == 1;
+    return 0;
+}
+
+/* res=auto (see the header): per light, the primitives' centres are
+ * binned on a coarse cube of G x G cells a face, 6 G^2 = N / 4 (about 4 a
+ * cell were they spread over every direction); with O of its cells
+ * occupied, N / O primitives a cell there, the resolution at which that
+ * becomes LB_AUTO_PER_CELL is G sqrt(N / (4 O)). The largest over the
+ * lights, within 8..LB_AUTO_MAX. 0 out of memory. */
+#define LB_AUTO_PER_CELL 4.0
+#define LB_AUTO_MAX 512
+static long auto_res(const scene_t *scene)
+{
+    const prims_t *p = &scene->prims;
+    double n = p->count;
+    uint32_t g = (uint32_t)fmax(1.0, fmin(256.0, ceil(sqrt(n / (6.0 * LB_AUTO_PER_CELL)))));
+    uint8_t *seen = malloc(6 * (size_t)g * g);
+    if (!seen) return 0;
+    double best = 8;
+    for (uint32_t l = 0; l < scene->nlights; l++) {
+        memset(seen, 0, 6 * (size_t)g * g);
+        double occupied = 0;
+        for (uint32_t id = 0; id < p->count; id++) {
+            vec3 w = v3_sub(box_center(prim_bounds(p, id)), scene->lights[l]);
+            int f = dircube_face(w);
+            float u, v;
+            dircube_uv(w, f, &u, &v);
+            uint32_t i = (uint32_t)fmin(g - 1, fmax(0.0, floor((u + 1.0) * 0.5 * g)));
+            uint32_t j = (uint32_t)fmin(g - 1, fmax(0.0, floor((v + 1.0) * 0.5 * g)));
+            uint8_t *cell = &seen[((size_t)f * g + j) * g + i];
+            occupied += !*cell;
+            *cell = 1;
+        }
+        best = fmax(best, g * sqrt(n / (LB_AUTO_PER_CELL * occupied)));
+    }
+    free(seen);
+    return (long)fmin(ceil(best), LB_AUTO_MAX);
+}
+
+static accel *lb_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+{
+    long res, memcap;
+    bool cull, single, fullocc;
+    bool is_auto = strcmp(params_get(params, "res"), "auto") == 0;
+    if (is_auto && !(res = auto_res(scene))) {
+        snprintf(err, errlen, "lightbuf: out of memory choosing res=auto");
+        return NULL;
+    }
+    if ((!is_auto && params_get_long(params, "res", 1, LB_RES_MAX, &res, err, errlen)) || on_off(params, "cull", &cull, err, errlen) ||
+        on_off(params, "single", &single, err, errlen) || on_off(params, "fullocc", &fullocc, err, errlen) ||
+        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
+        return NULL;
+    const prims_t *p = &scene->prims;
+    const uint32_t ncells = 6 * (uint32_t)res * (uint32_t)res;
+    uint64_t used = base_bytes(p, scene->nlights, ncells, cull);
+    if (memcap_exceeded(used, (uint64_t)memcap, err, errlen,
+                        "the lightbuf cells (%u lights x %u) and fallback over %u primitives", scene->nlights, ncells,
+                        p->count))
+        return NULL;
+    lb_t *t = calloc(1, sizeof *t);
+    box3 *boxes = malloc(((size_t)p->count + 1) * sizeof *boxes);
+    lb_cullinfo ci = {0};
+    if (!t || !boxes) goto oom;
+    t->base.scene = scene;
+    t->p = p;
+    t->res = (uint32_t)res, t->ncells = ncells;
+    t->margin = fmin(0.125, fmax(2.0 / (double)res / 16.0, 1.0 / 1024.0));
+    t->cull = cull, t->single = single, t->fullocc = fullocc;
+    /* The fallback for rays the buffer does not answer. */
+    for (uint32_t id = 0; id < p->count; id++) boxes[id] = prim_bounds(p, id);
+    bvh_config cfg;
+    bvh_config_defaults(&cfg);
+    if (bvh_build_sah(&t->fallback, boxes, NULL, p->count, &cfg)) goto oom;
+    free(boxes);
+    boxes = NULL;
+    if (cull && cullinfo_build(p, &ci)) goto oom;
+    t->nlights = scene->nlights;
+    t->lights = calloc((size_t)t->nlights + 1, sizeof *t->lights);
+    if (!t->lights) goto oom;
+    for (uint32_t l = 0; l < t->nlights; l++) {
+        lb_light *L = &t->lights[l];
+        L->pos[0] = scene->lights[l].x, L->pos[1] = scene->lights[l].y, L->pos[2] = scene->lights[l].z;
+        L->cells = calloc(ncells, sizeof *L->cells);
+        if (!L->cells) goto oom;
+        int rc = build_light(t, L, &ci, (uint64_t)memcap, &used, err, errlen);
+        if (rc == -2) goto fail;
+        if (rc) goto oom;
+    }
+    cullinfo_free(&ci);
+    return &t->base;
+oom:
+    snprintf(err, errlen, "lightbuf: out of memory building over %u primitives", p->count);
+fail:
+    free(boxes);
+    cullinfo_free(&ci);
+    lb_destroy(t ? &t->base : NULL);
+    return NULL;
+}
+
+/* ---------------------------------------------------------------- trace */
+
+/* Test the run refs[0 .. n) in depth order while a candidate can reach
+ * the segment (depth <= qd). */
+BODY bool walk(const prims_t *p, const lb_ref *refs, uint32_t n, double qd, const ray_t *ray, counters_t *c,
+               const bool counting)
+{
+    for (uint32_t k = 0; k < n && (double)refs[k].depth <= qd; k++)
+        if (prim_test_any(p, refs[k].id, ray, c, counting)) return true;
+    return false;
+}
+
+BODY bool fallback(const lb_t *t, const ray_t *ray, counters_t *c, const bool counting)
+{
+    return counting ? bvh_occluded_dfs(&t->fallback, t->p, NULL, ray, c) : bvh_occluded_dfs_fast(&t->fallback, t->p, NULL, ray);
+}
+
+/* Whether the segment [Ps, Pe] stays strictly on one side of the slab. */
+BODY bool slab_misses(const lb_slab *s, dv ps, dv pe)
+{
+    dv n = dv_of(s->n);
+    double a = dv_dot(n, ps), b = dv_dot(n, pe);
+    return (a > s->hi && b > s->hi) || (a < s->lo && b < s->lo);
+}
+
+/* The query of the header (steps 1-5). */
+BODY bool query(const lb_t *t, const ray_t *ray, counters_t *c, const bool counting)
+{
+    if (ray->light >= t->nlights || !isfinite(ray->tfar)) return fallback(t, ray, c, counting);
+    const lb_light *L = &t->lights[ray->light];
+    dv lp = {{L->pos[0], L->pos[1], L->pos[2]}}, o = dv_of(ray->org), d = dv_of(ray->dir);
+    dv ps = dv_madd(o, d, ray->tnear), pe = dv_madd(o, d, ray->tfar);
+    dv w = dv_sub(ps, lp);
+    double e = dv_len(dv_sub(pe, lp)), ds = dv_len(w);
+    if (!(e <= L->rho * LB_END_FRAC)) return fallback(t, ray, c, counting);
+    double qd = fmax(ds, e) * (1 + LB_DEPTH_SLACK);
+    if (ds > L->rho) {
+        if (LB_PERTURB * e / L->rho + LB_UV_ROUND > t->margin) return fallback(t, ray, c, counting);
+        vec3 wf = v3((float)w.v[0], (float)w.v[1], (float)w.v[2]);
+        int f = dircube_face(wf);
+        float u, v;
+        dircube_uv(wf, f, &u, &v);
+        const uint32_t res = t->res;
+        int i = (int)floorf((u + 1.0f) * 0.5f * (float)res), j = (int)floorf((v + 1.0f) * 0.5f * (float)res);
+        i = i < 0 ? 0 : i >= (int)res ? (int)res - 1 : i;
+        j = j < 0 ? 0 : j >= (int)res ? (int)res - 1 : j;
+        const lb_cell *cell = &L->cells[((uint32_t)f * res + (uint32_t)j) * res + (uint32_t)i];
+        if (counting) c->steps++, c->empty_leaves += cell->count == 0 && cell->occ == INFINITY;
+        if (ds > (double)cell->occ) return true; /* beyond a full-occlusion record */
+        bool skip = false;
+        if (cell->single != LB_NONE) {
+            if (counting) c->box_tests++;
+            skip = slab_misses(&L->slabs[cell->single], ps, pe);
+        }
+        if (!skip && walk(t->p, &L->refs[cell->first], cell->count, qd, ray, c, counting)) return true;
+    }
+    return walk(t->p, L->near, L->nnear, qd, ray, c, counting);
+}
+
+static bool lb_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+{
+    (void)ctx;
+    return query((const lb_t *)a, ray, c, true);
+}
+
+static bool lb_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
+{
+    (void)ctx;
+    return query((const lb_t *)a, ray, NULL, false);
+}
+
+/* ------------------------------------------------------- bookkeeping */
+
+static size_t lb_memory(const accel *a)
+{
+    const lb_t *t = (const lb_t *)a;
+    size_t b = sizeof *t + (size_t)t->nlights * sizeof *t->lights + bvh_memory(&t->fallback);
+    for (uint32_t l = 0; l < t->nlights; l++) {
+        const lb_light *L = &t->lights[l];
+        b += (size_t)t->ncells * sizeof(lb_cell) + ((size_t)L->nrefs + L->nnear) * sizeof(lb_ref) +
+             (size_t)L->nslabs * sizeof(lb_slab);
+    }
+    return b;
+}
+
+static int lb_stats(const accel *a, accel_stat *out, int max)
+{
+    const lb_t *t = (const lb_t *)a;
+    uint64_t cells = (uint64_t)t->ncells * t->nlights, nonempty = 0, refs = 0, near = 0;
+    for (uint32_t l = 0; l < t->nlights; l++) {
+        const lb_light *L = &t->lights[l];
+        for (uint32_t c = 0; c < t->ncells; c++) nonempty += L->cells[c].count > 0;
+        refs += L->nrefs, near += L->nnear;
+    }
+    accel_stat s[] = {
+        {"nodes", (double)cells},
+        {"leaves", (double)nonempty},
+        {"empty_leaves", (double)(cells - nonempty)},
+        {"avg_leaf_prims", nonempty ? (double)refs / (double)nonempty : 0.0},
+        {"refs_per_prim", t->p->count ? (double)(refs + near) / t->p->count : 0.0},
+        {"res_x", (double)t->res},
+        {"res_y", (double)t->res},
+    };
+    int n = (int)(sizeof s / sizeof s[0]);
+    if (n > max) n = max;
+    memcpy(out, s, (size_t)n * sizeof *s);
+    return n;
+}
+
+/* ----------------------------------------------------- test accessors */
+
+uint32_t lightbuf_debug_cell(const accel *a, uint32_t light, uint32_t cell, uint32_t *ids, float *depths, uint32_t cap,
+                             float *occ, bool *single)
+{
+    const lb_t *t = (const lb_t *)a;
+    if (light >= t->nlights) return 0;
+    const lb_light *L = &t->lights[light];
+    if (cell == UINT32_MAX) { /* the near list */
+        for (uint32_t k = 0; k < L->nnear && k < cap; k++) ids[k] = L->near[k].id, depths[k] = L->near[k].depth;
+        *occ = INFINITY, *single = false;
+        return L->nnear;
+    }
+    if (cell >= t->ncells) return 0;
+    const lb_cell *c = &L->cells[cell];
+    for (uint32_t k = 0; k < c->count && k < cap; k++) ids[k] = L->refs[c->first + k].id, depths[k] = L->refs[c->first + k].depth;
+    *occ = c->occ, *single = c->single != LB_NONE;
+    return c->count;
+}
+
+int lightbuf_debug_light(const accel *a, uint32_t light, uint32_t *res, uint32_t *nnear, uint32_t *nculled,
+                         double *rho)
+{
+    const lb_t *t = (const lb_t *)a;
+    if (light >= t->nlights) return -1;
+    *res = t->res, *nnear = t->lights[light].nnear, *nculled = t->lights[light].nculled, *rho = t->lights[light].rho;
+    return 0;
+}
+
+/* Every switch off, alone and together, and other resolutions. */
+static const char *const lb_variants[] = {
+    "cull=off",
+    "single=off",
+    "fullocc=off",
+    "cull=off,single=off,fullocc=off",
+    "res=1",
+    "res=7,fullocc=off",
+    "res=128",
+    "res=auto",
+    NULL,
+};
+
+const struct accel_ops accel_lightbuf = {
+    .version = 2,
+    .name = "lightbuf",
+    .summary = "Haines-Greenberg light buffer: a direction cube per point light, depth-sorted candidate lists per "
+               "cell, full-occlusion records; shadow rays only",
+    .paper = "Haines & Greenberg, IEEE CG&A 6(9) 1986; Arvo & Kirk 1989 survey s6.1-6.2, fig. 19",
+    .params = lb_params,
+    .flags = ACCEL_SHADOW_ONLY,
+    .build = lb_build,
+    .intersect = NULL,
+    .occluded = lb_occluded,
+    .memory = lb_memory,
+    .destroy = lb_destroy,
+    .stats = lb_stats,
+    .occluded_fast = lb_occluded_fast,
+    .variants = lb_variants,
+};
