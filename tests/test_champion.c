@@ -5,7 +5,9 @@
  *               against the scalar reference traversal of the same tree:
  *               ray for ray on every workload of spd:balls:2, spd:tree:2,
  *               bunny and gen:room, bit-identical hits (t, u, v, prim) or
- *               occlusion and identical counters; the counting-free
+ *               occlusion and identical counters, and the same on
+ *               axis-aligned rays with +0 and -0 components from a lattice
+ *               over the scene's box (origins in box planes); the counting-free
  *               methods give the same answers; an ISA the CPU lacks is
  *               skipped here by an explicit check (and refused by build);
  *               packets=off (leaves through refs) the same as packets=on
@@ -65,17 +67,18 @@ static bool same_counters(const counters_t *x, const counters_t *y) { return mem
 /* Every traceable ray of rs through a and ref one at a time: the same
  * answer bit for bit and the same counters, and a's fast methods the same
  * answer. At most 3 failures printed per set. Returns the rays compared. */
-static uint32_t compare_rays(accel *ref, accel *a, const rayset_t *rs, const char *label, const char *wl)
+static uint32_t compare_ray_array(accel *ref, accel *a, const ray_t *rays, uint32_t count, bool any, const char *label,
+                                  const char *wl)
 {
     accel_ctx *cr = ref->ops->context_new(ref), *ca = a->ops->context_new(a);
     uint32_t compared = 0, printed = 0;
-    for (uint32_t i = 0; i < rs->count; i++) {
-        const ray_t *ray = &rs->rays[i];
+    for (uint32_t i = 0; i < count; i++) {
+        const ray_t *ray = &rays[i];
         if (!ray_traceable(ray)) continue;
         compared++;
         counters_t c1 = {0}, c2 = {0};
         bool ok;
-        if (rs->query == QUERY_ANY) {
+        if (any) {
             bool o1 = ref->ops->occluded(ref, cr, ray, &c1), o2 = a->ops->occluded(a, ca, ray, &c2);
             bool o3 = a->ops->occluded_fast(a, ca, ray);
             ok = o1 == o2 && o2 == o3 && same_counters(&c1, &c2);
@@ -95,6 +98,41 @@ static uint32_t compare_rays(accel *ref, accel *a, const rayset_t *rs, const cha
     return compared;
 }
 
+static uint32_t compare_rays(accel *ref, accel *a, const rayset_t *rs, const char *label, const char *wl)
+{
+    return compare_ray_array(ref, a, rs->rays, rs->count, rs->query == QUERY_ANY, label, wl);
+}
+
+/* Axis-aligned rays whose other direction components are +0 or -0, from
+ * a lattice over the scene's box that includes its faces and centre
+ * planes (so origins lie in planes of child boxes), both ways along each
+ * axis: reciprocals of +-inf, plane distances of 0 * inf = NaN. */
+static ray_t *axis_rays(const scene_t *s, uint32_t *count)
+{
+    const int n = 9;
+    ray_t *rays = malloc(sizeof *rays * 3 * 2 * 4 * n * n);
+    uint32_t k = 0;
+    box3 b = s->prims.box;
+    float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+    for (int ax = 0; ax < 3; ax++)
+        for (int sign = 0; sign < 2; sign++)
+            for (int zeros = 0; zeros < 4; zeros++)
+                for (int i = 0; i < n; i++)
+                    for (int j = 0; j < n; j++) {
+                        int u = (ax + 1) % 3, v = (ax + 2) % 3;
+                        float o[3], d[3];
+                        o[ax] = sign ? hi[ax] + 1.0f : lo[ax] - 1.0f;
+                        o[u] = lo[u] + (hi[u] - lo[u]) * (float)i / (float)(n - 1);
+                        o[v] = lo[v] + (hi[v] - lo[v]) * (float)j / (float)(n - 1);
+                        d[ax] = sign ? -1.0f : 1.0f;
+                        d[u] = (zeros & 1) ? -0.0f : 0.0f;
+                        d[v] = (zeros & 2) ? -0.0f : 0.0f;
+                        rays[k++] = (ray_t){v3(o[0], o[1], o[2]), 0.0f, v3(d[0], d[1], d[2]), INFINITY, RAY_NO_LIGHT, 0};
+                    }
+    *count = k;
+    return rays;
+}
+
 /* Every ISA this CPU has at width W against scalar, on every workload. */
 static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char *extra)
 {
@@ -102,6 +140,8 @@ static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char 
     rayset_t *sets[16];
     int nsets = 0;
     for (int w = 0; workload_table[w].name && nsets < 16; w++) sets[nsets++] = workload_table[w].make(s, embree, &o);
+    uint32_t naxis;
+    ray_t *axis = axis_rays(s, &naxis);
     for (int width = 4; width <= 8; width += 4) {
         char cfg[128];
         snprintf(cfg, sizeof cfg, "width=%d,isa=scalar%s", width, extra);
@@ -120,7 +160,9 @@ static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char 
             int before = check_failed;
             uint64_t rays = 0;
             for (int k = 0; k < nsets; k++) rays += compare_rays(ref, a, sets[k], cfg, workload_table[k].name);
-            printf("%-12s %-40s %8llu rays over %d workloads %s\n", s->name, cfg, (unsigned long long)rays, nsets,
+            rays += compare_ray_array(ref, a, axis, naxis, false, cfg, "axis rays, closest") +
+                    compare_ray_array(ref, a, axis, naxis, true, cfg, "axis rays, any");
+            printf("%-12s %-40s %8llu rays over %d workloads and axis rays %s\n", s->name, cfg, (unsigned long long)rays, nsets,
                    check_failed == before ? "bit-identical to scalar" : "DIFFER");
             a->ops->destroy(a);
         }
@@ -135,6 +177,7 @@ static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char 
         ref->ops->destroy(ref);
     }
     for (int k = 0; k < nsets; k++) rayset_free(sets[k]);
+    free(axis);
 }
 
 static void test_simd(void)
