@@ -153,6 +153,18 @@ WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, c
          * end); otherwise it is pushed last, so popped first, like the
          * rest. */
         uint32_t last = m && !(child[ord[0]] & WIDE_LEAF) ? 1 : 0;
+        /* The nodes to come, fetched while this one's leaves are tested
+         * (the cache lines of their box rows). Measured on the bunny,
+         * 3 x 11 pairs on a loaded machine: median ratios 1.18/1.48/1.67
+         * against 1.26/1.57/1.67 without (primary/shadow/random), a small
+         * gain at most. */
+        for (uint32_t i = 0; i < m; i++)
+            if (!(child[ord[i]] & WIDE_LEAF)) {
+                const char *nb = (const char *)w->nodes + (size_t)child[ord[i]] * (W == 4 ? sizeof(wide4_node) : sizeof(wide8_node));
+                __builtin_prefetch(nb);
+                __builtin_prefetch(nb + 64);
+                if (W == 8) __builtin_prefetch(nb + 128);
+            }
         for (uint32_t i = m; i-- > last;) stack[sp++] = (wide_entry){child[ord[i]], count[ord[i]], tn[ord[i]]};
         if (last) {
             cur = child[ord[0]];
