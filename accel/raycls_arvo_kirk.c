@@ -1,0 +1,950 @@
+/* raycls_arvo_kirk.c: `raycls`, Arvo and Kirk's ray classification.
+ *
+ * Paper: J. Arvo, D. Kirk, "Fast Ray Tracing by Ray Classification",
+ * SIGGRAPH '87 (Computer Graphics 21(4), 55-64), as their survey "A Survey
+ * of Ray Tracing Acceleration Techniques" (1989) describes it in s6.1 (the
+ * direction cube, figure 19), s6.4 (figures 22 and 23) and s6.5 (figure
+ * 24's row "ray classification": built lazily while tracing, candidate
+ * lists by a hierarchy of beams, nonuniform direction subdivision, caching):
+ *   - a ray is a 5-D point (x, y, z, u, v): its origin in the scene box B
+ *     and its direction as (u, v) on the face of the direction cube of its
+ *     dominant axis (accel/common/dircube.h, figure 19). Six hyper-octrees,
+ *     one per face, each over B x [-1, 1]^2;
+ *   - a hypercube H is a set of rays: origins in a 3-D box, directions in a
+ *     u-v cell. Their union is the beam of H (figure 22: the box plus the
+ *     direction pyramid), and H's candidate list C(H) holds every primitive
+ *     that meets the beam (occlusion neglected);
+ *   - built while tracing (figure 23): the leaf holding the ray's 5-D point
+ *     is found (from the per-thread cache or the root); an "inherited" list
+ *     is culled against the leaf's beam; while the list is longer than
+ *     maxcands and the leaf shallower than maxdepth, the leaf is split along
+ *     all five axes at their midpoints into 32 children that inherit (point
+ *     to) its list, and the child holding the ray is culled in turn. The
+ *     other 31 are culled only when a ray first reaches them;
+ *   - culling (C(H) n Beam(H)): beam=cone bounds the beam by a cone and each
+ *     primitive by a sphere (the survey: "only a rough approximation, but
+ *     very fast"); beam=exact tests the primitive's bounding box against the
+ *     beam itself (a convex polyhedron), exactly (below);
+ *   - each root list holds every primitive, sorted once by its minimum
+ *     extent along the face's direction (for -x: by max x, descending), ties
+ *     by id; culling only deletes entries, so every list keeps that order
+ *     with no further sorting. Candidates are tested in it, and processing
+ *     stops when the ray's interval [tnear, t_hit] projected on the face's
+ *     direction lies before the next candidate's minimum extent (figure 23):
+ *     no later candidate can then be hit before t_hit, so the closest hit is
+ *     exact (the comparison waits a slack past t_hit, as a primitive's float
+ *     t may fall just before its exact hit: see rc_reach);
+ *   - truncation (s6.4, "partial candidate lists"): with truncate=D a
+ *     hypercube's list drops every primitive lying wholly beyond the plane
+ *     D x (B's extent along the axis) past the far face of its origin box
+ *     (since the lists are sorted by minimum extent, that is a prefix). A
+ *     ray that gets past that plane without a hit before it is "pushed": its
+ *     origin moves to where it crosses the plane and it is classified anew
+ *     (the same ray keeps its tnear and its running hit; the new leaf's
+ *     beam covers the rest of it). A per-thread mailbox skips primitives the
+ *     ray already tested in an earlier leaf.
+ *
+ * Rays, soundly: the ray is clipped to B (padded, see slack) in double; a
+ * ray that misses B misses everything. Its classification point is the
+ * point where it enters B (or its tnear point when that is inside B),
+ * computed in double and clamped into B. A ray whose coordinates are so
+ * large that double rounding of that point could exceed the slack (about
+ * 1e9 times the scene's size away) is not classified: it is tested against
+ * its face's root list (every primitive, with the stopping rule). Slack:
+ * origin boxes are grown by pad = 2e-6 max|B| + 1e-6 diag(B) for culling,
+ * u-v cells by 1e-6, spheres by 1e-6 relative plus pad; culling runs in
+ * double. So no primitive that a ray of the hypercube can hit is dropped
+ * by rounding.
+ *
+ * Parameters (defaults):
+ *   maxdepth=auto   deepest hypercube (roots at 0), 0..20; auto: 8 when
+ *                   lazy, 2 when lazy=off (a full tree has 6 x 32^depth
+ *                   leaves).
+ *   maxcands=16     split a leaf whose list is longer than this.
+ *   truncate=0      D >= 0 (0: off), the partial lists above.
+ *   lazy=on         on: built while tracing (figure 23), ACCEL_MUTATES;
+ *                   reset() returns to the six roots. off: every hypercube
+ *                   is split by the same rule at build time, breadth first
+ *                   over the whole space, until maxdepth, maxcands or memcap
+ *                   stops it; the structure is then immutable and
+ *                   thread-safe (the table still says ACCEL_MUTATES, as it
+ *                   is one table for both, so the harness traces it on one
+ *                   thread).
+ *   beam=cone       cone (cone-sphere) | exact (box-beam).
+ *   memcap=1024     MiB: the build is refused when the roots' lists and
+ *                   the per-primitive tables pass it; lazy growth past it is
+ *                   refused while tracing: the leaf is then used as it is
+ *                   (an inherited list is a superset of its own, so answers
+ *                   stay exact), nothing more is split or culled until
+ *                   reset(), one line says so on stderr (once per build),
+ *                   and the refusals are counted (raycls_debug_counts).
+ *
+ * Beam tests. Face f has axis a, sign s, and U, V the other two axes in
+ * lexicographic order; the cell's directions are s e_a + u e_U + v e_V.
+ *   cone: the pyramid of the cell lies in the cone of axis w (the cell
+ *   centre's direction) and half-angle theta (the largest angle to a
+ *   corner); the origin box lies in the ball (centre c, radius r) of its
+ *   half diagonal; ball + cone lies in the same cone with apex moved back to
+ *   c - w r / sin(theta). A sphere meets the cone when its centre is within
+ *   its radius of the cone (distance to the apex when the centre lies
+ *   behind the apex's normal cone).
+ *   exact: box Q meets box O + pyramid P exactly when the box Q - O =
+ *   [Q.lo - O.hi, Q.hi - O.lo] meets P, a cone from the origin; with T = s
+ *   x_a >= 0 the conditions u0 T <= x_U <= u1 T (and for v) have a point
+ *   of the box when T lies in an interval computed from five linear
+ *   bounds. Q here is prim_bounds, so exact is exact for the bounding box;
+ *   as the box lies in its circumsphere and the beam in its cone, exact
+ *   never keeps a primitive cone drops (tests/test_raycls.c checks it).
+ *
+ * Node: 64 bytes (rc_node, _Static_assert): the hypercube as lo[5], hi[5]
+ * (40: x, y, z, u, v), child (first of 32 consecutive children, child +
+ * bits with bit k set for the upper half of axis k; 0: a leaf), list and
+ * count (its candidates, pool[list .. list + count)), tplane (the
+ * truncation plane of its list along the face's direction; +inf for a
+ * complete list), parent, depth, own (0: the list is its parent's,
+ * inherited, not yet culled), face.
+ * Memory layout (memory() counts what is in use; capacity grows by
+ * doubling but never past memcap): the object (about 200 bytes); key[6 n]
+ * (4 bytes: minimum extent of each primitive along each face's direction);
+ * sphere[n] (16 bytes: centre, radius); nodes[], the six roots first
+ * (0 .. 5, face order), children appended as made; pool[], uint32 ids, the
+ * six root lists first (6 n entries), then every culled list appended. So
+ * after build: 40 n + 24 n + 384 bytes plus the object; each split adds
+ * 2 KiB, each culling 4 bytes per kept entry. reset() (lazy) drops every
+ * node and entry past the roots'. memory() is read after a pass by the
+ * harness, so it is the structure one pass of the ray set grew.
+ * Per thread (context, not in memory()): the cache of the last leaf used
+ * per face (6 x 4 bytes); with truncate > 0 a mailbox (4 bytes per
+ * primitive).
+ *
+ * Counters: box_tests = 1 per ray (its clip to B) + 1 per cache probe (the
+ * 5-D containment test of the last leaf of that face); steps = hypercubes
+ * entered on the way down (the root and every level, including levels
+ * made by lazy splits); empty_leaves = leaves used whose list is empty;
+ * mailbox_hits = primitives skipped after a push. Through the cache,
+ * steps and box_tests depend on the rays a thread traced before (which
+ * leaf is cached); the primitive tests and the answers do not, as every
+ * ray reaches the same leaf either way. intersect_fast and
+ * occluded_fast are the same walk compiled without counting
+ * (accel/common/prim_test.h). Statistics: nodes (interior hypercubes),
+ * leaves (leaf hypercubes with a list of their own: reached by a ray, or
+ * all of them when eager; the siblings a split leaves unreached are not
+ * counted), empty_leaves (of those, the ones with an empty list), max_depth
+ * and avg_leaf_prims (list entries per non-empty one) over the same,
+ * refs_per_prim (pool entries, root lists included, over primitives),
+ * lazy_build_ms (time spent culling and splitting while tracing since the
+ * last reset).
+ *
+ * Not implemented: Arvo and Kirk's first-generation special case (a direction
+ * cube for eye rays: here eye rays are classified like any other), object
+ * hierarchies to speed up culling, polyhedral bounds tighter than a box,
+ * subdivision of the roots' lists by anything but the beam. Building is
+ * single-threaded. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "accel.h"
+#include "raycls_arvo_kirk.h"
+#include "common/dircube.h"
+#include "common/mailbox.h"
+#include "common/memcap.h"
+#include "common/prim_test.h"
+#include "../prims/checked_alloc.h"
+
+#define RC_ROOTS 6
+#define RC_FANOUT 32
+#define RC_DEPTH_MAX 20
+#define RC_PUSH_MAX 4096 /* pushes before a ray falls back to its root list */
+#define RC_DIR_SLACK 1e-6 /* u-v cells grown by this for culling */
+#define BODY static inline __attribute__((always_inline))
+
+enum { BEAM_CONE = 0, BEAM_EXACT = 1 };
+
+static const accel_param rc_params[] = {
+    {"maxdepth", "auto", "deepest hypercube, 0..20 | auto (8 lazy, 2 with lazy=off)"},
+    {"maxcands", "16", "split a leaf whose candidate list is longer than this: 1..1000000000"},
+    {"truncate", "0", "partial lists (s6.4): drop candidates wholly D x (B's extent) past the origin box, 0 = off"},
+    {"lazy", "on", "on: build while tracing (figure 23) | off: build eagerly, immutable"},
+    {"beam", "cone", "culling: cone (cone-sphere) | exact (bounding box against the polyhedral beam)"},
+    {"memcap", "1024", "MiB: refuse a build past it; lazy growth past it stops splitting"},
+    {NULL, NULL, NULL},
+};
+
+typedef struct {
+    float lo[5], hi[5]; /* 40: origin box x, y, z, then the u-v cell */
+    uint32_t child;     /* first of 32 children; 0: a leaf (the roots are 0..5) */
+    uint32_t list;      /* first entry of its list in pool */
+    uint32_t count;     /* entries in its list */
+    float tplane;       /* every primitive dropped from the list has key > tplane; +inf: none dropped */
+    uint32_t parent;    /* a root: itself */
+    uint8_t depth, own, face, pad;
+} rc_node;
+_Static_assert(sizeof(rc_node) == 64, "rc_node is 64 bytes: one cache line");
+
+typedef struct {
+    accel base;
+    const prims_t *p;
+    uint32_t n;
+    int lazy, beam;
+    uint32_t maxdepth, maxcands;
+    double truncate;
+    uint64_t cap_bytes;
+    long memcap;
+    box3 box; /* B */
+    float pad;
+    float *key;    /* [6 n] minimum extent along each face's direction */
+    float *sphere; /* [4 n] centre x, y, z, radius */
+    rc_node *nodes;
+    uint32_t nnodes, nodes_cap;
+    uint32_t *pool;
+    uint64_t npool, pool_cap;
+    bool capped, warned;
+    uint64_t refusals;
+    double lazy_ms;
+} rc_t;
+
+struct accel_ctx {
+    uint32_t cache[RC_ROOTS]; /* the leaf last used per face; UINT32_MAX: none */
+    mailbox_t mb;             /* truncate > 0: primitives already tested by this ray */
+};
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+static float maxabs3(vec3 a) { return fmaxf(fabsf(a.x), fmaxf(fabsf(a.y), fabsf(a.z))); }
+static float get3(vec3 a, int k) { return k == 0 ? a.x : k == 1 ? a.y : a.z; }
+
+/* Face f's axis, sign and the two lexicographic other axes (figure 19). */
+static void face_axes(int f, int *a, double *s, int *ua, int *va)
+{
+    *a = f / 2;
+    *s = (f & 1) ? -1.0 : 1.0;
+    *ua = *a == 0 ? 1 : 0;
+    *va = *a == 2 ? 1 : 2;
+}
+
+/* --------------------------------------------------------- beam tests */
+
+/* A hypercube's beam, grown by the slack, in the two forms the tests use. */
+typedef struct {
+    int a, ua, va;
+    double s;
+    double olo[3], ohi[3];         /* origin box, grown by pad */
+    double u0, u1, v0, v1;         /* cell, grown by RC_DIR_SLACK */
+    double apex[3], w[3], cs, sn;  /* bounding cone: apex, unit axis, cos and sin of the half-angle */
+} rc_beam;
+
+static void beam_init(rc_beam *b, int face, const float lo[5], const float hi[5], float pad)
+{
+    face_axes(face, &b->a, &b->s, &b->ua, &b->va);
+    for (int k = 0; k < 3; k++) b->olo[k] = (double)lo[k] - pad, b->ohi[k] = (double)hi[k] + pad;
+    b->u0 = lo[3] - RC_DIR_SLACK, b->u1 = hi[3] + RC_DIR_SLACK;
+    b->v0 = lo[4] - RC_DIR_SLACK, b->v1 = hi[4] + RC_DIR_SLACK;
+    /* The cone's axis: the cell centre's direction. */
+    double uc = 0.5 * (b->u0 + b->u1), vc = 0.5 * (b->v0 + b->v1);
+    double w[3] = {0, 0, 0};
+    w[b->a] = b->s, w[b->ua] = uc, w[b->va] = vc;
+    double wl = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    for (int k = 0; k < 3; k++) b->w[k] = w[k] / wl;
+    /* Half-angle: the widest corner (the angle to a convex spherical cell
+     * is largest at a vertex), widened a little against rounding. */
+    double cmin = 1.0;
+    for (int c = 0; c < 4; c++) {
+        double d[3] = {0, 0, 0};
+        d[b->a] = b->s, d[b->ua] = (c & 1) ? b->u1 : b->u0, d[b->va] = (c & 2) ? b->v1 : b->v0;
+        double dl = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        double cc = (d[0] * b->w[0] + d[1] * b->w[1] + d[2] * b->w[2]) / dl;
+        if (cc < cmin) cmin = cc;
+    }
+    b->cs = fmin(cmin, 1.0) - 1e-9;
+    b->sn = sqrt(fmax(0.0, 1.0 - b->cs * b->cs)) + 1e-9;
+    /* The origin box's ball, swept along the cone, stays in the cone whose
+     * apex is r / sin(theta) behind the ball's centre. */
+    double r2 = 0;
+    for (int k = 0; k < 3; k++) r2 += 0.25 * (b->ohi[k] - b->olo[k]) * (b->ohi[k] - b->olo[k]);
+    double back = sqrt(r2) * (1.0 + 1e-9) / b->sn;
+    for (int k = 0; k < 3; k++) b->apex[k] = 0.5 * (b->olo[k] + b->ohi[k]) - b->w[k] * back;
+}
+
+/* Sphere (centre c, radius rad) against the bounding cone. */
+static bool cone_keeps(const rc_beam *b, const double c[3], double rad)
+{
+    double q[3] = {c[0] - b->apex[0], c[1] - b->apex[1], c[2] - b->apex[2]};
+    double qq = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    double h = q[0] * b->w[0] + q[1] * b->w[1] + q[2] * b->w[2];
+    double p = sqrt(fmax(0.0, qq - h * h));
+    /* Behind the apex (outside the cone's normal fan): the apex is nearest. */
+    if (h * b->cs + p * b->sn < 0) return qq <= rad * rad;
+    return p * b->cs - h * b->sn <= rad;
+}
+
+/* One linear bound c T <= rhs on T, narrowing [*tlo, *thi]. */
+static void t_bound(double c, double rhs, double *tlo, double *thi)
+{
+    if (c > 0) *thi = fmin(*thi, rhs / c);
+    else if (c < 0) *tlo = fmax(*tlo, rhs / c);
+    else if (rhs < 0) *tlo = INFINITY; /* 0 <= rhs fails: empty */
+}
+
+/* Box q against the beam itself (see the file header). */
+static bool exact_keeps(const rc_beam *b, box3 q)
+{
+    double qlo[3], qhi[3];
+    for (int k = 0; k < 3; k++) qlo[k] = get3(q.lo, k) - b->ohi[k], qhi[k] = get3(q.hi, k) - b->olo[k];
+    double tlo = b->s > 0 ? qlo[b->a] : -qhi[b->a], thi = b->s > 0 ? qhi[b->a] : -qlo[b->a];
+    tlo = fmax(tlo, 0.0);
+    t_bound(b->u0, qhi[b->ua], &tlo, &thi);  /* u0 T <= x_U max */
+    t_bound(-b->u1, -qlo[b->ua], &tlo, &thi); /* u1 T >= x_U min */
+    t_bound(b->v0, qhi[b->va], &tlo, &thi);
+    t_bound(-b->v1, -qlo[b->va], &tlo, &thi);
+    return tlo <= thi + 1e-12 * (fabs(tlo) + fabs(thi));
+}
+
+static bool beam_keeps(const rc_t *r, const rc_beam *b, uint32_t id)
+{
+    if (r->beam == BEAM_EXACT) return exact_keeps(b, prim_bounds(r->p, id));
+    const float *sp = r->sphere + 4 * (size_t)id;
+    double c[3] = {sp[0], sp[1], sp[2]};
+    return cone_keeps(b, c, sp[3] * (1.0 + 1e-6) + r->pad);
+}
+
+void raycls_debug_beam_tests(int face, const float lo[5], const float hi[5], float pad, box3 box, bool *cone,
+                             bool *exact)
+{
+    rc_beam b;
+    beam_init(&b, face, lo, hi, pad);
+    double dx = (double)box.hi.x - box.lo.x, dy = (double)box.hi.y - box.lo.y, dz = (double)box.hi.z - box.lo.z;
+    double cc[3] = {0.5 * ((double)box.lo.x + box.hi.x), 0.5 * ((double)box.lo.y + box.hi.y),
+                    0.5 * ((double)box.lo.z + box.hi.z)};
+    *cone = cone_keeps(&b, cc, 0.5 * sqrt(dx * dx + dy * dy + dz * dz) * (1.0 + 1e-6) + pad);
+    *exact = exact_keeps(&b, box);
+}
+
+/* ------------------------------------------------------------- storage */
+
+static size_t fixed_bytes(uint32_t n) { return sizeof(rc_t) + (size_t)n * (RC_ROOTS * sizeof(float) + 4 * sizeof(float)); }
+
+static uint64_t in_use(const rc_t *r)
+{
+    return fixed_bytes(r->n) + (uint64_t)r->nnodes * sizeof(rc_node) + r->npool * sizeof(uint32_t);
+}
+
+static uint64_t room_left(uint64_t cap, uint64_t used) { return cap > used ? cap - used : 0; }
+
+/* Room for more_nodes nodes and more_entries list entries, within memcap
+ * (what is in use AND what is allocated) and 32-bit indices. false:
+ * refused, nothing changed. */
+static bool rc_reserve(rc_t *r, uint32_t more_nodes, uint64_t more_entries)
+{
+    uint64_t need_nodes = (uint64_t)r->nnodes + more_nodes, need_pool = r->npool + more_entries;
+    if (need_nodes >= UINT32_MAX || need_pool >= UINT32_MAX) return false;
+    uint64_t fixed = fixed_bytes(r->n);
+    if (fixed + need_nodes * sizeof(rc_node) + need_pool * 4 > r->cap_bytes) return false;
+    if (need_nodes > r->nodes_cap) {
+        uint64_t room = room_left(r->cap_bytes, fixed + r->pool_cap * 4) / sizeof(rc_node);
+        uint64_t cap = r->nodes_cap * 2 < room ? r->nodes_cap * 2 : room;
+        if (cap < need_nodes) cap = need_nodes;
+        if (cap >= UINT32_MAX) cap = UINT32_MAX - 1;
+        rc_node *nn = realloc(r->nodes, cap * sizeof *nn);
+        if (!nn) return false;
+        r->nodes = nn, r->nodes_cap = (uint32_t)cap;
+    }
+    if (need_pool > r->pool_cap) {
+        uint64_t room = room_left(r->cap_bytes, fixed + (uint64_t)r->nodes_cap * sizeof(rc_node)) / 4;
+        uint64_t cap = r->pool_cap * 2 < room ? r->pool_cap * 2 : room;
+        if (cap < need_pool) cap = need_pool;
+        if (cap >= UINT32_MAX) cap = UINT32_MAX - 1;
+        uint32_t *np = realloc(r->pool, cap * sizeof *np);
+        if (!np) return false;
+        r->pool = np, r->pool_cap = cap;
+    }
+    return true;
+}
+
+/* The truncation plane of hypercube nd (along its face's direction): D x
+ * B's extent past the far face of its origin box; +inf when off. */
+static float trunc_plane(const rc_t *r, const rc_node *nd)
+{
+    if (!(r->truncate > 0)) return INFINITY;
+    int a = nd->face / 2;
+    float far = (nd->face & 1) ? -nd->lo[a] : nd->hi[a];
+    return far + (float)(r->truncate * (get3(r->box.hi, a) - get3(r->box.lo, a)));
+}
+
+/* C(H) = C(H) n Beam(H) (figure 23), truncated at H's plane: node h's
+ * inherited list culled into a new list of its own. false: memcap refused
+ * (h keeps the inherited list, a superset in the same order). */
+static bool rc_cull(rc_t *r, uint32_t h)
+{
+    if (!rc_reserve(r, 0, r->nodes[h].count)) return false;
+    rc_node *nd = &r->nodes[h];
+    rc_beam b;
+    beam_init(&b, nd->face, nd->lo, nd->hi, r->pad);
+    const uint32_t *src = r->pool + nd->list;
+    uint32_t *dst = r->pool + r->npool;
+    const float *key = r->key + (size_t)nd->face * r->n;
+    float tp = trunc_plane(r, nd);
+    uint32_t k = 0;
+    bool cut = false;
+    for (uint32_t i = 0; i < nd->count; i++) {
+        uint32_t id = src[i];
+        if (key[id] > tp) { /* sorted by key: the rest lie beyond too */
+            cut = true;
+            break;
+        }
+        if (beam_keeps(r, &b, id)) dst[k++] = id;
+    }
+    nd->tplane = cut || nd->tplane < INFINITY ? tp : INFINITY;
+    nd->list = (uint32_t)r->npool;
+    nd->count = k;
+    nd->own = 1;
+    r->npool += k;
+    return true;
+}
+
+/* Split leaf h into 32 children at the midpoints of its five axes; they
+ * inherit its list. false: memcap refused. */
+static bool rc_split(rc_t *r, uint32_t h)
+{
+    if (!rc_reserve(r, RC_FANOUT, 0)) return false;
+    rc_node *nd = &r->nodes[h];
+    uint32_t first = r->nnodes;
+    float mid[5];
+    for (int k = 0; k < 5; k++) mid[k] = nd->lo[k] + 0.5f * (nd->hi[k] - nd->lo[k]);
+    for (uint32_t c = 0; c < RC_FANOUT; c++) {
+        rc_node *ch = &r->nodes[first + c];
+        for (int k = 0; k < 5; k++) {
+            bool up = (c >> k) & 1;
+            ch->lo[k] = up ? mid[k] : nd->lo[k];
+            ch->hi[k] = up ? nd->hi[k] : mid[k];
+        }
+        ch->child = 0;
+        ch->list = nd->list, ch->count = nd->count, ch->tplane = nd->tplane;
+        ch->parent = h;
+        ch->depth = (uint8_t)(nd->depth + 1), ch->own = 0, ch->face = nd->face, ch->pad = 0;
+    }
+    nd->child = first;
+    r->nnodes += RC_FANOUT;
+    return true;
+}
+
+static bool wants_split(const rc_t *r, const rc_node *nd)
+{
+    return nd->count > r->maxcands && nd->depth < r->maxdepth;
+}
+
+/* -------------------------------------------------------------- locate */
+
+/* The child of interior h holding the 5-D point pt: lower halves are
+ * half-open [lo, mid), upper halves [mid, hi]. Child 31 starts at every
+ * midpoint. */
+static uint32_t rc_child(const rc_t *r, uint32_t h, const float pt[5])
+{
+    uint32_t first = r->nodes[h].child;
+    const float *mid = r->nodes[first + RC_FANOUT - 1].lo;
+    uint32_t bits = (uint32_t)(pt[0] >= mid[0]) | (uint32_t)(pt[1] >= mid[1]) << 1 | (uint32_t)(pt[2] >= mid[2]) << 2 |
+                    (uint32_t)(pt[3] >= mid[3]) << 3 | (uint32_t)(pt[4] >= mid[4]) << 4;
+    return first + bits;
+}
+
+/* Whether leaf h holds pt by the descent's rule (an upper bound is
+ * included only where it is the root's). */
+static bool rc_holds(const rc_t *r, uint32_t h, const float pt[5])
+{
+    const rc_node *nd = &r->nodes[h], *root = &r->nodes[nd->face];
+    for (int k = 0; k < 5; k++)
+        if (!(nd->lo[k] <= pt[k] && (pt[k] < nd->hi[k] || nd->hi[k] == root->hi[k]))) return false;
+    return true;
+}
+
+static void refuse(rc_t *r)
+{
+    r->capped = true;
+    r->refusals++;
+    if (!r->warned) {
+        r->warned = true;
+        fprintf(stderr, "accelbench: raycls: memcap=%ld MiB reached: hypercubes stop splitting%s (answers stay exact)\n",
+                r->memcap, r->lazy ? " until reset" : "");
+    }
+}
+
+/* Figure 23's lazy subdivision from leaf h down to the leaf holding pt;
+ * the levels it makes are counted in *steps. */
+static uint32_t rc_refine(rc_t *r, uint32_t h, const float pt[5], uint64_t *steps)
+{
+    if (r->nodes[h].own && !wants_split(r, &r->nodes[h])) return h;
+    if (r->capped) {
+        r->refusals++;
+        return h;
+    }
+    double t0 = now_ms();
+    for (;;) {
+        if (!r->nodes[h].own && !rc_cull(r, h)) {
+            refuse(r);
+            break;
+        }
+        if (!wants_split(r, &r->nodes[h])) break;
+        if (!rc_split(r, h)) {
+            refuse(r);
+            break;
+        }
+        h = rc_child(r, h, pt);
+        (*steps)++;
+    }
+    r->lazy_ms += now_ms() - t0;
+    return h;
+}
+
+/* The leaf of face f's hyper-octree holding pt: the cached one when it
+ * still is a leaf holding pt, else found from the root; refined when lazy. */
+BODY uint32_t rc_locate(rc_t *r, accel_ctx *ctx, int f, const float pt[5], counters_t *c, const bool counting)
+{
+    uint32_t h = ctx->cache[f];
+    uint64_t steps = 0;
+    bool cached = h < r->nnodes;
+    if (counting && cached) c->box_tests++;
+    if (!(cached && r->nodes[h].child == 0 && r->nodes[h].face == f && rc_holds(r, h, pt))) {
+        h = (uint32_t)f;
+        steps++;
+        while (r->nodes[h].child) {
+            h = rc_child(r, h, pt);
+            steps++;
+        }
+    }
+    if (r->lazy) h = rc_refine(r, h, pt, &steps);
+    if (counting) c->steps += steps;
+    ctx->cache[f] = h;
+    return h;
+}
+
+/* ---------------------------------------------------------------- trace */
+
+/* A ray as the walk sees it: face, its axis and sign, double copies, the
+ * part inside B and the 5-D point. */
+typedef struct {
+    int face, a;
+    double s, o[3], d[3];
+    double tstart, texit;
+    float pt[5];
+} rc_ray;
+
+enum { RC_MISS, RC_FAR, RC_INSIDE };
+
+/* pt from the point at t (clamped into B; the clamp only absorbs rounding). */
+static void rc_point(const rc_t *r, rc_ray *q, double t)
+{
+    const float lo[3] = {r->box.lo.x, r->box.lo.y, r->box.lo.z}, hi[3] = {r->box.hi.x, r->box.hi.y, r->box.hi.z};
+    for (int k = 0; k < 3; k++) q->pt[k] = (float)fmin(fmax(q->o[k] + t * q->d[k], lo[k]), hi[k]);
+}
+
+/* Clip the ray to B and classify it: RC_MISS (it misses B, so everything),
+ * RC_FAR (too far out to classify soundly: use the root list) or RC_INSIDE
+ * (q->pt set). */
+static int rc_classify(const rc_t *r, const ray_t *ray, rc_ray *q)
+{
+    q->face = dircube_face(ray->dir);
+    dircube_uv(ray->dir, q->face, &q->pt[3], &q->pt[4]);
+    q->a = q->face / 2;
+    q->s = (q->face & 1) ? -1.0 : 1.0;
+    q->o[0] = ray->org.x, q->o[1] = ray->org.y, q->o[2] = ray->org.z;
+    q->d[0] = ray->dir.x, q->d[1] = ray->dir.y, q->d[2] = ray->dir.z;
+    double t0 = ray->tnear, t1 = ray->tfar;
+    bool miss = false;
+    for (int k = 0; k < 3; k++) {
+        double lo = get3(r->box.lo, k), hi = get3(r->box.hi, k);
+        if (q->d[k] == 0) {
+            miss |= q->o[k] < lo || q->o[k] > hi;
+            continue;
+        }
+        double ta = (lo - q->o[k]) / q->d[k], tb = (hi - q->o[k]) / q->d[k];
+        if (ta > tb) {
+            double x = ta;
+            ta = tb, tb = x;
+        }
+        t0 = fmax(t0, ta), t1 = fmin(t1, tb);
+    }
+    /* Double rounding of the point, against the slack. */
+    double om = fmax(fabs(q->o[0]), fmax(fabs(q->o[1]), fabs(q->o[2])));
+    double dm = fmax(fabs(q->d[0]), fmax(fabs(q->d[1]), fabs(q->d[2])));
+    double tm = fmax(fabs(t0), isfinite(t1) ? fabs(t1) : 0.0);
+    if (!(1e-15 * (om + tm * dm) <= 0.25 * r->pad)) return RC_FAR;
+    if (miss || t0 > t1) return RC_MISS;
+    q->tstart = t0, q->texit = t1;
+    rc_point(r, q, t0);
+    return RC_INSIDE;
+}
+
+/* The largest value along the face's direction of the ray's points over
+ * [tnear, t]: at t, as the face's component of dir has the face's sign;
+ * plus a slack, as a primitive's hit t is computed in float: a primitive
+ * whose exact hit lies just past t may return a float t just before it
+ * (exhaustive search would take it), so the stop waits until the next
+ * minimum extent is clearly beyond (pad: some 16 ulps at the scene's scale,
+ * and 1e-6 of the distances involved). */
+static double rc_reach(const rc_t *r, const rc_ray *q, float t)
+{
+    double o = q->s * q->o[q->a], dt = (double)t * fabs(q->d[q->a]);
+    return o + dt + r->pad + 1e-6 * (fabs(o) + dt);
+}
+
+/* Push the ray to where it crosses plane (along the face's direction):
+ * false when that is past B (nothing is left to find). */
+static bool rc_push(const rc_t *r, rc_ray *q, float plane)
+{
+    double t = (q->s * plane - q->o[q->a]) / q->d[q->a];
+    t -= 1e-12 * fabs(t); /* before the crossing is always sound, past it not */
+    if (!(t < q->texit)) return false;
+    if (t > q->tstart) q->tstart = t;
+    rc_point(r, q, q->tstart);
+    return true;
+}
+
+/* Figure 23 for one ray: classify, then process the candidates in order
+ * until the stopping rule, pushing past truncation planes. */
+BODY bool rc_walk(rc_t *r, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c, const bool shadow,
+                  const bool counting)
+{
+    rc_ray q;
+    int cls = rc_classify(r, ray, &q);
+    if (counting) c->box_tests++;
+    if (cls == RC_MISS) return false;
+    uint32_t rid = r->truncate > 0 ? mailbox_next_ray(&ctx->mb) : 0;
+    uint32_t h = cls == RC_FAR ? (uint32_t)q.face : rc_locate(r, ctx, q.face, q.pt, c, counting);
+    const float *key = r->key + (size_t)q.face * r->n;
+    bool found = false;
+    for (int pushes = 0;; pushes++) {
+        const rc_node *nd = &r->nodes[h];
+        const uint32_t *ids = r->pool + nd->list;
+        if (counting && nd->count == 0) c->empty_leaves++;
+        double reach = rc_reach(r, &q, shadow ? ray->tfar : hit->t);
+        bool stopped = false;
+        for (uint32_t i = 0; i < nd->count; i++) {
+            uint32_t id = ids[i];
+            if (reach < key[id]) { /* past the distance interval */
+                stopped = true;
+                break;
+            }
+            if (rid) {
+                if (mailbox_seen(&ctx->mb, id, rid)) {
+                    if (counting) c->mailbox_hits++;
+                    continue;
+                }
+                mailbox_mark(&ctx->mb, id, rid);
+            }
+            if (shadow) {
+                if (prim_test_any(r->p, id, ray, c, counting)) return true;
+            } else if (prim_test_closest(r->p, id, ray, hit, c, counting)) {
+                found = true;
+                reach = rc_reach(r, &q, hit->t);
+            }
+        }
+        /* Done unless the list was truncated at a plane the ray reaches. */
+        if (stopped || !(reach >= nd->tplane)) break;
+        if (pushes >= RC_PUSH_MAX) {
+            h = (uint32_t)q.face; /* the complete root list; the mailbox skips what was tested */
+            continue;
+        }
+        if (!rc_push(r, &q, nd->tplane)) break;
+        h = rc_locate(r, ctx, q.face, q.pt, c, counting);
+    }
+    return found;
+}
+
+static bool rc_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
+{
+    return rc_walk((rc_t *)a, ctx, ray, hit, c, false, true);
+}
+
+static bool rc_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+{
+    hit_t h = hit_none(ray);
+    return rc_walk((rc_t *)a, ctx, ray, &h, c, true, true);
+}
+
+static bool rc_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
+{
+    return rc_walk((rc_t *)a, ctx, ray, hit, NULL, false, false);
+}
+
+static bool rc_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
+{
+    hit_t h = hit_none(ray);
+    return rc_walk((rc_t *)a, ctx, ray, &h, NULL, true, false);
+}
+
+/* -------------------------------------------------------------- context */
+
+static accel_ctx *rc_context_new(accel *a)
+{
+    rc_t *r = (rc_t *)a;
+    /* context_new cannot fail through the interface: out of memory is exit 2 (prims/checked_alloc.h) */
+    accel_ctx *ctx = checked_calloc(1, sizeof *ctx, "a raycls tracing context");
+    for (int f = 0; f < RC_ROOTS; f++) ctx->cache[f] = UINT32_MAX;
+    if (r->truncate > 0 && mailbox_init(&ctx->mb, r->n))
+        checked_alloc_failed((uint64_t)r->n * sizeof(uint32_t), "a raycls thread's mailboxes");
+    return ctx;
+}
+
+static void rc_context_free(accel_ctx *ctx)
+{
+    if (!ctx) return;
+    mailbox_free(&ctx->mb);
+    free(ctx);
+}
+
+/* ---------------------------------------------------------------- build */
+
+static void rc_destroy(accel *a)
+{
+    rc_t *r = (rc_t *)a;
+    if (!r) return;
+    free(r->key);
+    free(r->sphere);
+    free(r->nodes);
+    free(r->pool);
+    free(r);
+}
+
+typedef struct {
+    float key;
+    uint32_t id;
+} keyed;
+
+static int cmp_keyed(const void *x, const void *y)
+{
+    const keyed *a = x, *b = y;
+    if (a->key != b->key) return a->key < b->key ? -1 : 1;
+    return (a->id > b->id) - (a->id < b->id);
+}
+
+/* B: the primitives' bounds padded by the slack (so the entry point of a
+ * ray lies before every primitive), flat axes widened as the grid does. */
+static void scene_box(rc_t *r)
+{
+    const prims_t *p = r->p;
+    box3 b = p->count && !box_is_empty(p->box) ? p->box : (box3){{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}};
+    vec3 e = box_extent(b);
+    float maxe = fmaxf(e.x, fmaxf(e.y, e.z));
+    float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(maxabs3(b.lo), maxabs3(b.hi)));
+    float *lo[3] = {&b.lo.x, &b.lo.y, &b.lo.z}, *hi[3] = {&b.hi.x, &b.hi.y, &b.hi.z};
+    for (int a = 0; a < 3; a++)
+        if (*hi[a] - *lo[a] <= 1e-7f * base) *lo[a] -= 1e-3f * base, *hi[a] += 1e-3f * base;
+    r->pad = 2e-6f * fmaxf(maxabs3(b.lo), maxabs3(b.hi)) + 1e-6f * box_diagonal(b);
+    for (int a = 0; a < 3; a++) *lo[a] -= r->pad, *hi[a] += r->pad;
+    r->box = b;
+}
+
+/* Keys, spheres and the six sorted root lists. */
+static void build_roots(rc_t *r, keyed *scratch)
+{
+    const prims_t *p = r->p;
+    for (uint32_t id = 0; id < r->n; id++) {
+        box3 b = prim_bounds(p, id);
+        double dx = (double)b.hi.x - b.lo.x, dy = (double)b.hi.y - b.lo.y, dz = (double)b.hi.z - b.lo.z;
+        float *s = r->sphere + 4 * (size_t)id;
+        s[0] = 0.5f * b.lo.x + 0.5f * b.hi.x, s[1] = 0.5f * b.lo.y + 0.5f * b.hi.y, s[2] = 0.5f * b.lo.z + 0.5f * b.hi.z;
+        /* The centre's own rounding is inside the 1e-6 relative and pad
+         * slack of the test; the radius rounds up. */
+        s[3] = nextafterf((float)(0.5 * sqrt(dx * dx + dy * dy + dz * dz)), INFINITY);
+    }
+    for (int f = 0; f < RC_ROOTS; f++) {
+        int a = f / 2;
+        vec3 dir = v3(a == 0, a == 1, a == 2);
+        if (f & 1) dir = v3_scale(dir, -1.0f);
+        float *key = r->key + (size_t)f * r->n;
+        for (uint32_t id = 0; id < r->n; id++) {
+            float lo, hi;
+            if (!prim_extent(p, id, dir, &lo, &hi)) {
+                box3 b = prim_bounds(p, id);
+                lo = (f & 1) ? -get3(b.hi, a) : get3(b.lo, a);
+            }
+            key[id] = lo;
+            scratch[id] = (keyed){lo, id};
+        }
+        qsort(scratch, r->n, sizeof *scratch, cmp_keyed);
+        uint32_t *list = r->pool + (size_t)f * r->n;
+        for (uint32_t i = 0; i < r->n; i++) list[i] = scratch[i].id;
+        rc_node *nd = &r->nodes[f];
+        memset(nd, 0, sizeof *nd);
+        for (int k = 0; k < 3; k++) nd->lo[k] = get3(r->box.lo, k), nd->hi[k] = get3(r->box.hi, k);
+        nd->lo[3] = nd->lo[4] = -1.0f, nd->hi[3] = nd->hi[4] = 1.0f;
+        nd->list = (uint32_t)f * r->n, nd->count = r->n, nd->tplane = INFINITY;
+        nd->parent = (uint32_t)f, nd->own = 1, nd->face = (uint8_t)f;
+    }
+    r->nnodes = RC_ROOTS;
+    r->npool = (uint64_t)RC_ROOTS * r->n;
+}
+
+/* lazy=off: every hypercube by the same rule, breadth first (the node
+ * array is the queue), so that memcap, if it stops the build, stops it at
+ * an even depth everywhere. */
+static void build_eager(rc_t *r)
+{
+    for (uint32_t h = 0; h < r->nnodes && !r->capped; h++) {
+        if (!r->nodes[h].own && !rc_cull(r, h)) {
+            refuse(r);
+            break;
+        }
+        if (wants_split(r, &r->nodes[h]) && !rc_split(r, h)) refuse(r);
+    }
+}
+
+static accel *rc_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+{
+    static const char *const onoff[] = {"off", "on", NULL};
+    static const char *const beams[] = {"cone", "exact", NULL};
+    int lazy, beam;
+    long maxdepth = -1, maxcands, memcap;
+    double truncate;
+    if (params_get_long(params, "maxcands", 1, 1000000000L, &maxcands, err, errlen) ||
+        params_get_double(params, "truncate", 0, 1e6, &truncate, err, errlen) ||
+        params_get_choice(params, "lazy", onoff, &lazy, err, errlen) ||
+        params_get_choice(params, "beam", beams, &beam, err, errlen) ||
+        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
+        return NULL;
+    if (strcmp(params_get(params, "maxdepth"), "auto") == 0) maxdepth = lazy ? 8 : 2;
+    else if (params_get_long(params, "maxdepth", 0, RC_DEPTH_MAX, &maxdepth, err, errlen)) {
+        snprintf(err, errlen, "maxdepth=%s: must be auto or in 0..%d", params_get(params, "maxdepth"), RC_DEPTH_MAX);
+        return NULL;
+    }
+
+    const prims_t *p = &scene->prims;
+    uint64_t n = p->count;
+    uint64_t base = fixed_bytes(p->count) + RC_ROOTS * sizeof(rc_node) + RC_ROOTS * n * 4;
+    if (memcap_exceeded(memcap_add(base, n * sizeof(keyed)), (uint64_t)memcap, err, errlen,
+                        "raycls over %llu primitives: six sorted root lists, keys and spheres",
+                        (unsigned long long)n))
+        return NULL;
+    if (RC_ROOTS * n >= UINT32_MAX) {
+        snprintf(err, errlen, "raycls over %llu primitives: more than 2^32 root-list entries", (unsigned long long)n);
+        return NULL;
+    }
+
+    rc_t *r = calloc(1, sizeof *r);
+    keyed *scratch = NULL;
+    if (!r) goto oom;
+    r->base.scene = scene;
+    r->p = p;
+    r->n = p->count;
+    r->lazy = lazy, r->beam = beam;
+    r->maxdepth = (uint32_t)maxdepth, r->maxcands = (uint32_t)maxcands;
+    r->truncate = truncate;
+    r->memcap = memcap;
+    r->cap_bytes = (uint64_t)memcap << 20;
+    scene_box(r);
+    r->key = malloc(((size_t)RC_ROOTS * r->n + 1) * sizeof *r->key);
+    r->sphere = malloc((4 * (size_t)r->n + 1) * sizeof *r->sphere);
+    r->nodes = malloc(RC_ROOTS * sizeof *r->nodes);
+    r->pool = malloc(((size_t)RC_ROOTS * r->n + 1) * sizeof *r->pool);
+    scratch = malloc(((size_t)r->n + 1) * sizeof *scratch);
+    if (!r->key || !r->sphere || !r->nodes || !r->pool || !scratch) goto oom;
+    r->nodes_cap = RC_ROOTS;
+    r->pool_cap = (uint64_t)RC_ROOTS * r->n + 1;
+    build_roots(r, scratch);
+    free(scratch);
+    if (!lazy) build_eager(r);
+    return &r->base;
+
+oom:
+    free(scratch);
+    snprintf(err, errlen, "out of memory building raycls over %llu primitives", (unsigned long long)n);
+    rc_destroy(r ? &r->base : NULL);
+    return NULL;
+}
+
+/* ------------------------------------------------------- version 2 */
+
+static size_t rc_memory(const accel *a) { return (size_t)in_use((const rc_t *)a); }
+
+static int rc_stats(const accel *a, accel_stat *out, int max)
+{
+    const rc_t *r = (const rc_t *)a;
+    uint64_t interior = 0, leaves = 0, empty = 0, entries = 0;
+    uint32_t depth = 0;
+    for (uint32_t h = 0; h < r->nnodes; h++) {
+        const rc_node *nd = &r->nodes[h];
+        if (nd->child) {
+            interior++;
+            continue;
+        }
+        if (!nd->own) continue; /* never reached: still its parent's list */
+        leaves++;
+        empty += nd->count == 0;
+        entries += nd->count;
+        if (nd->depth > depth) depth = nd->depth;
+    }
+    accel_stat all[] = {
+        {"nodes", (double)interior},
+        {"leaves", (double)leaves},
+        {"empty_leaves", (double)empty},
+        {"max_depth", (double)depth},
+        {"avg_leaf_prims", leaves > empty ? (double)entries / (double)(leaves - empty) : 0.0},
+        {"refs_per_prim", r->n ? (double)r->npool / r->n : 0.0},
+        {"lazy_build_ms", r->lazy_ms},
+    };
+    int n = (int)(sizeof all / sizeof all[0]);
+    if (n > max) n = max;
+    for (int k = 0; k < n; k++) out[k] = all[k];
+    return n;
+}
+
+/* Lazy: back to the six roots and their lists, which culling never writes
+ * (new lists are appended past them), so nothing needs restoring but the
+ * counts. Capacity is kept for the next pass. Eager: nothing changes. */
+static void rc_reset(accel *a)
+{
+    rc_t *r = (rc_t *)a;
+    if (!r->lazy) return;
+    r->nnodes = RC_ROOTS;
+    r->npool = (uint64_t)RC_ROOTS * r->n;
+    for (int f = 0; f < RC_ROOTS; f++) r->nodes[f].child = 0;
+    r->capped = false;
+    r->refusals = 0;
+    r->lazy_ms = 0;
+}
+
+static box3 rc_bounds(const accel *a) { return ((const rc_t *)a)->box; }
+
+void raycls_debug_counts(const accel *a, uint32_t *nodes, uint64_t *entries, uint64_t *refusals)
+{
+    const rc_t *r = (const rc_t *)a;
+    *nodes = r->nnodes;
+    *entries = r->npool;
+    *refusals = r->refusals;
+}
+
+/* Besides the defaults: built eagerly, polyhedral culling, tiny lists that
+ * force deep splits, truncated lists (pushes), and a deep eager tree. */
+static const char *const rc_variants[] = {"lazy=off", "beam=exact", "maxcands=1", "truncate=0.05",
+                                          "truncate=0.02,maxcands=2,beam=exact", "lazy=off,maxdepth=3,maxcands=4",
+                                          NULL};
+
+/* ACCEL_MUTATES: lazy construction writes the shared tree while tracing;
+ * reset() returns it to the roots. */
+const struct accel_ops accel_raycls = {
+    .version = 2,
+    .name = "raycls",
+    .summary = "Arvo-Kirk ray classification: six lazily built 5-D hyper-octrees of rays, beam-culled sorted lists",
+    .paper = "Arvo & Kirk, Fast Ray Tracing by Ray Classification, SIGGRAPH 1987; survey s6.1, s6.4, figs. 19, 22-24",
+    .params = rc_params,
+    .flags = ACCEL_MUTATES,
+    .build = rc_build,
+    .context_new = rc_context_new,
+    .context_free = rc_context_free,
+    .intersect = rc_intersect,
+    .occluded = rc_occluded,
+    .memory = rc_memory,
+    .destroy = rc_destroy,
+    .stats = rc_stats,
+    .reset = rc_reset,
+    .bounds = rc_bounds,
+    .intersect_fast = rc_intersect_fast,
+    .occluded_fast = rc_occluded_fast,
+    .variants = rc_variants,
+};
