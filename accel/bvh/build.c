@@ -12,6 +12,7 @@ void bvh_config_defaults(bvh_config *cfg)
     cfg->bins = 16;
     cfg->cost_traversal = 1.0f;
     cfg->cost_intersect = 1.0f;
+    cfg->leaf_block = 1;
     cfg->insert_seed = 0;
 }
 
@@ -21,6 +22,7 @@ bvh_config bvh_config_or_defaults(const bvh_config *cfg)
     bvh_config_defaults(&c);
     if (cfg) c = *cfg;
     if (c.max_leaf < 1) c.max_leaf = 1;
+    if (c.leaf_block < 1) c.leaf_block = 1;
     if (c.bins < 2) c.bins = 2;
     if (c.bins > 256) c.bins = 256;
     return c;

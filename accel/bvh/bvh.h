@@ -86,6 +86,8 @@ typedef struct {
     uint32_t bins;        /* binned SAH: bins per axis (default 16, 2..256) */
     float cost_traversal; /* SAH: cost of visiting a node (default 1) */
     float cost_intersect; /* SAH: cost of one primitive test (default 1) */
+    uint32_t leaf_block;  /* SAH: a leaf's primitives are tested leaf_block at a time, so n cost as
+                           * ceil(n / leaf_block) * leaf_block (default 1: as counted; 0 means 1) */
     uint64_t insert_seed; /* incremental: 0 inserts in id order, else in an order shuffled by this seed */
 } bvh_config;
 
