@@ -46,8 +46,9 @@ static inline uint32_t slot_of(float x, float lo, float scale, uint32_t bins)
  * smaller (larger), which is fminf(acc, x) (fmaxf) for every x, NaN
  * included, as long as acc is not NaN (it starts at +-inf and only takes
  * values that compared). Written out because fminf and fmaxf are calls
- * into libm here (no -ffinite-math-only): perf found them 40 % of the
- * binning's time on the bunny. Only the cost and the bin scale read these
+ * into libm here (no -ffinite-math-only): perf of a bunny run found
+ * them 9 % of all samples beside sah_split's own 27 %; the build went from
+ * 230 to 62-108 ms (a loaded machine). Only the cost and the bin scale read these
  * boxes (areas and a lower bound), to which the sign of a zero makes no
  * difference, so the tree is the one box_union binned. */
 static inline float lo_of(float acc, float x) { return x < acc ? x : acc; }
