@@ -201,6 +201,9 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
      * packets=on: packets=off is the same tree with its leaves through
      * refs (test_champion compares the two ray for ray). */
     cfg.leaf_block = p->ntris == n ? PRIM_TRI_LANES : 1;
+    /* The subtrees on the harness's threads: the same tree for any count
+     * (build.c), so a run's thread count never changes what is traced. */
+    cfg.threads = params->threads > 0 ? (uint32_t)params->threads : 1;
     if (bvh_build_sah(&bin, boxes, NULL, n, &cfg)) goto oom;
     free(boxes);
     boxes = NULL;

@@ -1,8 +1,21 @@
 /* build.c: the parts every BVH builder shares: allocation, trimming and
  * measuring, centroids, and the top-down driver that the median and SAH
- * builders run with their own split choice. */
+ * builders run with their own split choice.
+ *
+ * With bvh_config.threads > 0 the driver builds in two phases: the top of
+ * the tree on the calling thread down to subtrees of at most n /
+ * BVH_SUBTREES primitives, then those subtrees in parallel (pthreads),
+ * each into a node range reserved for it: the task-parallel split of the
+ * recursion that parallel BVH builders use below their top levels (Wald,
+ * "On Fast Construction of SAH-based Bounding Volume Hierarchies", IEEE RT
+ * 2007, section 5; Embree's builders spawn subtrees the same way). Where a
+ * subtree is cut depends on n and the splits alone and each subtree's
+ * nodes land in its own range, so the tree, node numbers included, is the
+ * same for every thread count. */
 #include "build.h"
 
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,6 +26,7 @@ void bvh_config_defaults(bvh_config *cfg)
     cfg->cost_traversal = 1.0f;
     cfg->cost_intersect = 1.0f;
     cfg->leaf_block = 1;
+    cfg->threads = 0;
     cfg->insert_seed = 0;
 }
 
@@ -115,6 +129,84 @@ typedef struct {
     uint32_t node, begin, end;
 } task_t;
 
+/* A subtree left for the second phase: its task and the first node of the
+ * range reserved for its descendants. */
+typedef struct {
+    task_t task;
+    uint32_t base;
+} deferred_t;
+
+/* The top-down loop over a stack of tasks (tasks[0 .. ntasks), room for
+ * one per primitive of its range), new node pairs taken from *next. With
+ * grain > 0, a task of at most grain primitives is not built but recorded
+ * in deferred[] with a range of 2 cnt - 2 nodes reserved for its
+ * descendants (a binary tree over cnt primitives has at most 2 cnt - 1
+ * nodes, its root already made), so the 2n - 1 nodes bvh_alloc made are
+ * always enough. */
+static void topdown_loop(bvh_t *b, task_t *tasks, uint32_t ntasks, uint32_t *next, const box3 *boxes,
+                         const vec3 *cent, const bvh_config *c, bvh_split_fn split, uint32_t grain,
+                         deferred_t *deferred, uint32_t *ndeferred)
+{
+    while (ntasks) {
+        task_t t = tasks[--ntasks];
+        uint32_t *ids = b->refs + t.begin, cnt = t.end - t.begin;
+        if (cnt <= grain) {
+            deferred[(*ndeferred)++] = (deferred_t){t, *next};
+            *next += 2 * cnt - 2;
+            continue;
+        }
+        bvh_node *node = &b->nodes[t.node];
+        node->box = box_empty();
+        for (uint32_t i = 0; i < cnt; i++) node->box = box_union(node->box, boxes[ids[i]]);
+        uint32_t m = cnt > 1 ? split(ids, cnt, node->box, boxes, cent, c) : 0;
+        if (m == 0 && cnt > c->max_leaf) m = cnt / 2; /* a split function that declined: split by count */
+        if (m == 0 || m >= cnt) {
+            node->index = t.begin;
+            node->count = cnt;
+            continue;
+        }
+        uint32_t l = *next;
+        *next += 2;
+        node->index = l;
+        node->count = 0;
+        tasks[ntasks++] = (task_t){l + 1, t.begin + m, t.end};
+        tasks[ntasks++] = (task_t){l, t.begin, t.begin + m};
+    }
+}
+
+/* The second phase: workers take the deferred subtrees in order, each
+ * building its own on its own slice of refs, of the task array (a
+ * subtree's task stack never holds more than its primitives) and of the
+ * nodes (its reserved range), so nothing is shared but the next index. */
+typedef struct {
+    bvh_t *b;
+    task_t *tasks;
+    const box3 *boxes;
+    const vec3 *cent;
+    const bvh_config *c;
+    bvh_split_fn split;
+    const deferred_t *deferred;
+    uint32_t ndeferred;
+    atomic_uint taken;
+} phase2_t;
+
+static void *phase2_worker(void *arg)
+{
+    phase2_t *ph = arg;
+    for (;;) {
+        uint32_t i = atomic_fetch_add(&ph->taken, 1);
+        if (i >= ph->ndeferred) return NULL;
+        const deferred_t *d = &ph->deferred[i];
+        uint32_t next = d->base, end = d->base + 2 * (d->task.end - d->task.begin) - 2;
+        task_t *tasks = ph->tasks + d->task.begin;
+        tasks[0] = d->task;
+        topdown_loop(ph->b, tasks, 1, &next, ph->boxes, ph->cent, ph->c, ph->split, 0, NULL, NULL);
+        /* Reserved nodes the subtree did not use: zeroed, and never
+         * reached from the root. */
+        memset(&ph->b->nodes[next], 0, (size_t)(end - next) * sizeof *ph->b->nodes);
+    }
+}
+
 int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg,
                       bvh_split_fn split)
 {
@@ -125,37 +217,36 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
     const vec3 *cent = bvh_centroids(boxes, centroids, n, &owned);
     /* Pending tasks never exceed the leaves still to make: n. */
     task_t *tasks = malloc((size_t)n * sizeof *tasks);
-    if (!cent || !tasks) {
+    /* threads > 0: subtrees of at most `grain` primitives are deferred to
+     * a second phase over threads (grain depends on n alone, so the tree
+     * is the same whatever the thread count). */
+    uint32_t grain = c.threads ? (n / BVH_SUBTREES > BVH_MIN_GRAIN ? n / BVH_SUBTREES : BVH_MIN_GRAIN) : 0;
+    deferred_t *deferred = c.threads ? malloc((size_t)n * sizeof *deferred) : NULL;
+    if (!cent || !tasks || (c.threads && !deferred)) {
         free(owned);
         free(tasks);
+        free(deferred);
         bvh_free(b);
         return -1;
     }
     for (uint32_t i = 0; i < n; i++) b->refs[i] = i;
     b->nrefs = n;
-    b->nnodes = 1;
-    uint32_t ntasks = 0;
-    tasks[ntasks++] = (task_t){0, 0, n};
-    while (ntasks) {
-        task_t t = tasks[--ntasks];
-        uint32_t *ids = b->refs + t.begin, cnt = t.end - t.begin;
-        bvh_node *node = &b->nodes[t.node];
-        node->box = box_empty();
-        for (uint32_t i = 0; i < cnt; i++) node->box = box_union(node->box, boxes[ids[i]]);
-        uint32_t m = cnt > 1 ? split(ids, cnt, node->box, boxes, cent, &c) : 0;
-        if (m == 0 && cnt > c.max_leaf) m = cnt / 2; /* a split function that declined: split by count */
-        if (m == 0 || m >= cnt) {
-            node->index = t.begin;
-            node->count = cnt;
-            continue;
-        }
-        uint32_t l = b->nnodes;
-        b->nnodes += 2;
-        node->index = l;
-        node->count = 0;
-        tasks[ntasks++] = (task_t){l + 1, t.begin + m, t.end};
-        tasks[ntasks++] = (task_t){l, t.begin, t.begin + m};
+    uint32_t next = 1, ndeferred = 0;
+    tasks[0] = (task_t){0, 0, n};
+    topdown_loop(b, tasks, 1, &next, boxes, cent, &c, split, grain, deferred, &ndeferred);
+    if (ndeferred) {
+        phase2_t ph = {b, tasks, boxes, cent, &c, split, deferred, ndeferred, 0};
+        uint32_t nworkers = c.threads < ndeferred ? c.threads : ndeferred, started = 0;
+        pthread_t tid[BVH_MAX_THREADS];
+        if (nworkers > BVH_MAX_THREADS) nworkers = BVH_MAX_THREADS;
+        /* The calling thread is one worker; a thread that cannot be
+         * started leaves its share to the others. */
+        while (started + 1 < nworkers && pthread_create(&tid[started], NULL, phase2_worker, &ph) == 0) started++;
+        phase2_worker(&ph);
+        for (uint32_t i = 0; i < started; i++) pthread_join(tid[i], NULL);
     }
+    b->nnodes = next;
+    free(deferred);
     free(tasks);
     free(owned);
     return bvh_finish(b);

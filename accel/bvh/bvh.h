@@ -89,7 +89,15 @@ typedef struct {
     uint32_t leaf_block;  /* SAH: a leaf's primitives are tested leaf_block at a time, so n cost as
                            * ceil(n / leaf_block) * leaf_block (default 1: as counted; 0 means 1) */
     uint64_t insert_seed; /* incremental: 0 inserts in id order, else in an order shuffled by this seed */
+    uint32_t threads;     /* top-down: 0 builds on the calling thread in one pass (default); 1 or more builds
+                           * the subtrees below the top on that many threads (up to BVH_MAX_THREADS): the same
+                           * tree for every count >= 1, whose nodes[] may hold unused zeroed nodes that no node
+                           * points to */
 } bvh_config;
+
+#define BVH_MAX_THREADS 64 /* threads a top-down build uses at most */
+#define BVH_SUBTREES 64    /* threads > 0: subtrees of at most n / BVH_SUBTREES primitives are built in parallel */
+#define BVH_MIN_GRAIN 1024 /* ... and of at most this many when n / BVH_SUBTREES is fewer */
 
 void bvh_config_defaults(bvh_config *cfg);
 
