@@ -12,7 +12,9 @@
  *     on a scene of triangles only, leaf costs in whole packets of 4 as
  *     Embree's builder counts blocks (I. Wald, S. Woop, C. Benthin,
  *     G. S. Johnson, M. Ernst, "Embree: A Kernel Framework for Efficient
- *     CPU Ray Tracing", ACM TOG 33(4), 2014);
+ *     CPU Ray Tracing", ACM TOG 33(4), 2014); the subtrees below the
+ *     top built on the harness's threads (accel_params threads), the
+ *     same tree for every count (accel/bvh/build.c: Wald 2007, section 5);
  *   - wide nodes and their collapse from a binary SAH tree (accel/bvh/
  *     collapse.c): H. Dammertz, J. Hanika, A. Keller, "Shallow Bounding
  *     Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays",
