@@ -14,7 +14,7 @@
  *     G. S. Johnson, M. Ernst, "Embree: A Kernel Framework for Efficient
  *     CPU Ray Tracing", ACM TOG 33(4), 2014); the subtrees below the
  *     top built on the harness's threads (accel_params threads), the
- *     same tree for every count (accel/bvh/build.c: Wald 2007, section 5);
+ *     same tree for every count (accel/bvh/build.c: Wald, IEEE TVCG 2012);
  *   - wide nodes and their collapse from a binary SAH tree (accel/bvh/
  *     collapse.c): H. Dammertz, J. Hanika, A. Keller, "Shallow Bounding
  *     Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays",

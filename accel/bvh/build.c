@@ -6,9 +6,11 @@
  * the tree on the calling thread down to subtrees of at most n /
  * BVH_SUBTREES primitives, then those subtrees in parallel (pthreads),
  * each into a node range reserved for it: the task-parallel split of the
- * recursion that parallel BVH builders use below their top levels (Wald,
- * "On Fast Construction of SAH-based Bounding Volume Hierarchies", IEEE RT
- * 2007, section 5; Embree's builders spawn subtrees the same way). Where a
+ * recursion that parallel BVH builders use below their top levels (I. Wald,
+ * "Fast Construction of SAH BVHs on the Intel Many Integrated Core (MIC)
+ * Architecture", IEEE TVCG 18(1), 2012: subtrees as independent tasks
+ * once there are enough of them; its top levels also bin in parallel,
+ * which this does not). Where a
  * subtree is cut depends on n and the splits alone and each subtree's
  * nodes land in its own range, so the tree, node numbers included, is the
  * same for every thread count. */
