@@ -77,31 +77,47 @@ static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes
     double area = box_area(box), best = INFINITY;
     int best_axis = -1;
     uint32_t best_slot = 0;
+    /* The three axes binned in one pass over the primitives (Wald 2007
+     * bins all three at once): each box and centroid is fetched through
+     * ids once instead of once per axis. The bins are the ones a pass per
+     * axis fills, in the same order, so the tree is too. */
+    float axis_lo[3] = {0}, axis_scale[3] = {0};
+    bool live[3] = {false};
+    bin_t bins[3][SAH_MAX_BINS];
     for (int axis = 0; axis < 3; axis++) {
-        float lo = v3_get(cb.lo, axis), ext = v3_get(cb.hi, axis) - lo;
-        if (!(ext > 0.0f)) continue;
-        float scale = (float)nb / ext;
-        bin_t bins[SAH_MAX_BINS];
-        for (uint32_t k = 0; k < nb; k++) bins[k] = (bin_t){box_empty(), 0};
-        for (uint32_t i = 0; i < n; i++) {
-            bin_t *bn = &bins[slot_of(v3_get(centroids[ids[i]], axis), lo, scale, nb)];
-            bn->box = bin_union(bn->box, boxes[ids[i]]);
+        axis_lo[axis] = v3_get(cb.lo, axis);
+        float ext = v3_get(cb.hi, axis) - axis_lo[axis];
+        live[axis] = ext > 0.0f;
+        axis_scale[axis] = live[axis] ? (float)nb / ext : 0.0f;
+        for (uint32_t k = 0; k < nb; k++) bins[axis][k] = (bin_t){box_empty(), 0};
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        const vec3 c = centroids[ids[i]];
+        const box3 bx = boxes[ids[i]];
+        for (int axis = 0; axis < 3; axis++) {
+            if (!live[axis]) continue;
+            bin_t *bn = &bins[axis][slot_of(v3_get(c, axis), axis_lo[axis], axis_scale[axis], nb)];
+            bn->box = bin_union(bn->box, bx);
             bn->count++;
         }
+    }
+    for (int axis = 0; axis < 3; axis++) {
+        if (!live[axis]) continue;
+        const bin_t *bin = bins[axis];
         /* right[k]: area-times-count of bins k+1 .. nb-1, swept from the right. */
         double right[SAH_MAX_BINS];
         box3 acc = box_empty();
         uint32_t cnt = 0;
         for (uint32_t k = nb - 1; k > 0; k--) {
-            acc = bin_union(acc, bins[k].box);
-            cnt += bins[k].count;
+            acc = bin_union(acc, bin[k].box);
+            cnt += bin[k].count;
             right[k - 1] = cnt ? (double)box_area(acc) * blocks(cnt, cfg->leaf_block) : -1.0; /* -1: empty side */
         }
         acc = box_empty();
         cnt = 0;
         for (uint32_t k = 0; k + 1 < nb; k++) {
-            acc = bin_union(acc, bins[k].box);
-            cnt += bins[k].count;
+            acc = bin_union(acc, bin[k].box);
+            cnt += bin[k].count;
             if (!cnt || right[k] < 0.0) continue;
             double cost = cfg->cost_traversal * area + cfg->cost_intersect * ((double)box_area(acc) * blocks(cnt, cfg->leaf_block) + right[k]);
             if (cost < best) best = cost, best_axis = axis, best_slot = k;
