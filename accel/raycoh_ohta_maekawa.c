@@ -57,7 +57,11 @@
  * of A's cube holding dir is read, and the listed clusters' primitives are
  * tested in order of d until d exceeds the distance of the closest hit
  * found, t |dir| (t is in units of dir; survey s6.3's distance interval),
- * or for any-hit until an occluder or d beyond tfar |dir|. Every other ray
+ * or for any-hit until an occluder or d beyond tfar |dir|. With `spheres`
+ * (on by default) a listed cluster is first tested against its bounding
+ * sphere (the object's own bound; counted in box_tests), and skipped when
+ * the ray's line misses it or its chord lies outside [tnear, closest t];
+ * steps counts the list entries read, empty_leaves the empty cells read. Every other ray
  * (eye and random rays, RAY_NO_ORIGIN, an origin outside its cluster's
  * sphere) goes to the `fallback` accelerator, built through accel_build
  * with its defaults, and is counted as it counts.
@@ -65,7 +69,9 @@
  * Parameters (defaults): res (8) cells per cube face side, 1..64;
  * objsize (64) primitives per cluster at most, 1..65536; fallback (bsp)
  * the accelerator for rays without a usable origin, any registered one
- * that answers closest hits, does not mutate and is not raycoh; memcap
+ * that answers closest hits, does not mutate and is not raycoh; spheres
+ * (on) a listed cluster's bounding sphere tested before its primitives;
+ * memcap
  * (4096) MiB for the clusters, cubes and lists (the fallback has its own
  * cap): the clusters and cells are estimated before allocating them, the
  * lists checked before every growth, a build over the cap is refused.
@@ -77,7 +83,13 @@
  * cluster, cluster-major then face, v, u (cell (f, i, j) of cluster k at
  * (k 6 + f) res^2 + j res + i). Lists: rc_ref, 8 bytes (cluster index and
  * d as a float, rounded down), one run per cell, sorted by d. Quadtree:
- * built per accelerator, 48 bytes a node, about 2 x 6 res^2 nodes.
+ * built per accelerator, 56 bytes a node, 2 x 6 res^2 - 6 nodes. memory()
+ * adds the fallback's memory. Statistics: nodes (cells, 6 res^2 a
+ * cluster), leaves and empty_leaves (non-empty and empty cells),
+ * avg_leaf_prims (primitives listed per non-empty cell, every primitive of
+ * a listed cluster), refs_per_prim (those over the scene's primitives),
+ * res_x = res_y = res. The bunny (75k triangles) at the defaults: 2048
+ * clusters, 786k cells, about 34M list entries (some 280 MB), 5.6 s.
  *
  * Tolerances. Sphere radii are computed in double, rounded up to float and
  * grown by `margin` = 1e-6 x the scene box's diagonal + 4e-6 x its largest
@@ -90,7 +102,9 @@
  * u and v (the float u-v of a query direction is within a few ulps of the
  * true one) and every cone test by 1e-6 radians more. d is computed from
  * the grown radii in double, times (1 - 1e-6), rounded down to float; the
- * stop test compares it with t |dir| (1 + 1e-5). Spheres meeting within
+ * stop test compares it with t |dir| (1 + 1e-5); the sphere test grows
+ * the radius as the cones do (2 margin), then by 1e-6 relative, and the
+ * chord's ends by 1e-6 of |t_closest_approach| + half-chord. Spheres meeting within
  * 1e-9 relative (and A with itself) give the full sphere of directions.
  *
  * Not implemented: the paper's tighter bounds (convex polyhedra around
@@ -118,6 +132,7 @@
 typedef struct { vec3 c; float r; uint32_t first, count; } rc_obj; /* 24 bytes */
 typedef struct { uint32_t first, count; } rc_cell;                 /* 8 bytes */
 typedef struct { uint32_t obj; float d; } rc_ref;                  /* 8 bytes */
+static_assert(sizeof(rc_obj) == 24 && sizeof(rc_cell) == 8 && sizeof(rc_ref) == 8, "the sizes the header states");
 
 /* A quadtree node over a block of one face's cells: the bounding cone of
  * the block's (grown) direction pyramids. Leaves are single cells. */
@@ -142,6 +157,7 @@ typedef struct {
     int32_t roots[6];
     uint32_t nnodes, nonempty;
     float margin;
+    bool spheres; /* test a listed cluster's sphere before its primitives */
     accel *fb;
 } rc_t;
 
@@ -151,6 +167,7 @@ static const accel_param rc_params[] = {
     {"res", "8", "cells per direction-cube face side, 1..64 (6 res^2 cells per cluster)"},
     {"objsize", "64", "primitives per cluster at most, 1..65536 (clusters: the kit's median BVH leaves)"},
     {"fallback", "bsp", "accelerator for rays without a usable origin primitive (eye, random rays): a registry name"},
+    {"spheres", "on", "on|off: test a listed cluster's bounding sphere before its primitives (an object's own bound)"},
     {"memcap", "4096", "MiB: refuse a build whose clusters, cells and lists exceed it"},
     {NULL, NULL, NULL},
 };
@@ -444,9 +461,12 @@ static accel *build_fallback(const scene_t *scene, const char *name, char *err, 
     return fb;
 }
 
-static int read_params(const accel_params *params, long *res, long *objsize, long *cap, char *err, size_t errlen)
+static int read_params(const accel_params *params, long *res, long *objsize, long *cap, int *spheres, char *err,
+                       size_t errlen)
 {
+    static const char *const words[] = {"off", "on", NULL};
     if (params_get_long(params, "res", 1, 64, res, err, errlen) ||
+        params_get_choice(params, "spheres", words, spheres, err, errlen) ||
         params_get_long(params, "objsize", 1, 65536, objsize, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, cap, err, errlen))
         return -1;
@@ -456,11 +476,12 @@ static int read_params(const accel_params *params, long *res, long *objsize, lon
 static accel *rc_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
     long res, objsize, cap;
-    if (read_params(params, &res, &objsize, &cap, err, errlen)) return NULL;
+    int spheres;
+    if (read_params(params, &res, &objsize, &cap, &spheres, err, errlen)) return NULL;
     rc_t *t = calloc(1, sizeof *t);
     if (!t) goto oom;
     t->p = &scene->prims;
-    t->res = (uint32_t)res, t->objsize = (uint32_t)objsize;
+    t->res = (uint32_t)res, t->objsize = (uint32_t)objsize, t->spheres = spheres == 1;
     t->ncell_per_obj = 6 * t->res * t->res;
     t->fb = build_fallback(scene, params_get(params, "fallback"), err, errlen);
     if (!t->fb) goto fail;
@@ -520,6 +541,23 @@ static inline uint32_t origin_cluster(const rc_t *t, const ray_t *ray)
     return dx * dx + dy * dy + dz * dz <= r * r ? k : RC_NO_OBJ;
 }
 
+/* Whether the ray may meet cluster o's primitives in [tnear, tmax]: its
+ * line passes within the sphere (radius grown by 2 margin, as the cones
+ * are, and by 1e-6 relative) and the chord through it overlaps the range
+ * (by 1e-6 of the distances involved). In double, from the perpendicular
+ * offset (no cancellation of b^2 against |o|^2 |d|^2). */
+static inline bool sphere_may_hit(const rc_t *t, const rc_obj *o, const ray_t *ray, float tmax)
+{
+    double ox = (double)ray->org.x - o->c.x, oy = (double)ray->org.y - o->c.y, oz = (double)ray->org.z - o->c.z;
+    double dx = ray->dir.x, dy = ray->dir.y, dz = ray->dir.z, dd = dx * dx + dy * dy + dz * dz;
+    double tca = -(ox * dx + oy * dy + oz * dz) / dd;
+    double px = ox + tca * dx, py = oy + tca * dy, pz = oz + tca * dz;
+    double R = ((double)o->r + 2.0 * t->margin) * (1.0 + 1e-6), h2 = R * R - (px * px + py * py + pz * pz);
+    if (h2 < 0.0) return false;
+    double h = sqrt(h2 / dd), slack = 1e-6 * (fabs(tca) + h) + 1e-30;
+    return tca + h + slack >= ray->tnear && tca - h - slack <= tmax;
+}
+
 static inline __attribute__((always_inline)) bool walk_closest(const rc_t *t, uint32_t k, const ray_t *ray, hit_t *hit,
                                                                counters_t *c, const bool counting)
 {
@@ -529,8 +567,9 @@ static inline __attribute__((always_inline)) bool walk_closest(const rc_t *t, ui
     const rc_ref *r = &t->refs[cl->first], *end = r + cl->count;
     for (; r < end; r++) {
         if (r->d > hit->t * dl) break; /* every later object lies beyond the closest hit */
-        if (counting) c->steps++;
+        if (counting) c->steps++, c->box_tests += t->spheres;
         const rc_obj *o = &t->objs[r->obj];
+        if (t->spheres && !sphere_may_hit(t, o, ray, hit->t)) continue;
         for (uint32_t i = 0; i < o->count; i++) prim_test_closest(t->p, t->ids[o->first + i], ray, hit, c, counting);
     }
     return hit->prim != HIT_NONE;
@@ -545,8 +584,9 @@ static inline __attribute__((always_inline)) bool walk_any(const rc_t *t, uint32
     const rc_ref *r = &t->refs[cl->first], *end = r + cl->count;
     for (; r < end; r++) {
         if (r->d > reach) break;
-        if (counting) c->steps++;
+        if (counting) c->steps++, c->box_tests += t->spheres;
         const rc_obj *o = &t->objs[r->obj];
+        if (t->spheres && !sphere_may_hit(t, o, ray, ray->tfar)) continue;
         for (uint32_t i = 0; i < o->count; i++)
             if (prim_test_any(t->p, t->ids[o->first + i], ray, c, counting)) return true;
     }
@@ -639,7 +679,7 @@ static int rc_stats(const accel *a, accel_stat *out, int max)
 
 static const char *const rc_variants[] = {
     "res=1,objsize=1",
-    "res=3,objsize=5",
+    "res=3,objsize=5,spheres=off",
     "res=16,objsize=8,fallback=grid",
     "objsize=65536,fallback=exhaustive",
     NULL,

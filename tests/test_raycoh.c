@@ -260,7 +260,7 @@ static void test_refusals(void)
     scene_t *s = test_scene("spd:balls:1");
     struct { const char *cfg, *want; } bad[] = {
         {"res=0", "res"},           {"res=65", "res"},           {"objsize=0", "objsize"},
-        {"objsize=70000", "objsize"}, {"memcap=0", "memcap"},     {"fallback=nosuch", "fallback 'nosuch'"},
+        {"objsize=70000", "objsize"}, {"memcap=0", "memcap"}, {"spheres=maybe", "spheres"},     {"fallback=nosuch", "fallback 'nosuch'"},
         {"fallback=raycoh", "fallback 'raycoh'"}, {"fallback=lightbuf", "fallback 'lightbuf'"},
         {"fallback=grid-raybox", "fallback 'grid-raybox'"},
     };
@@ -278,9 +278,9 @@ int main(void)
     test_refusals();
     test_memcap();
     test_cones();
-    static const char *const mixed[] = {"", "res=1,objsize=1", "res=5,objsize=3", "res=16,objsize=1000,fallback=exhaustive",
+    static const char *const mixed[] = {"", "res=1,objsize=1", "res=5,objsize=3", "res=5,objsize=3,spheres=off", "res=16,objsize=1000,fallback=exhaustive",
                                         NULL};
-    static const char *const big[] = {"", "res=3,objsize=16", NULL};
+    static const char *const big[] = {"", "res=3,objsize=4", "objsize=2,spheres=off", NULL};
     test_brute("gen:room", mixed);
     test_brute("spd:balls:2", mixed);
     test_brute("spd:tree:2", big);
