@@ -285,7 +285,7 @@ static void cluster_sphere(const prims_t *p, const uint32_t *ids, rc_obj *o)
     o->r = nextafterf((float)((sqrt(r2) + moved) * (1.0 + 1e-7)), INFINITY);
 }
 
-static int make_clusters(rc_t *t, char *err, size_t errlen)
+static int make_clusters(rc_t *t)
 {
     const prims_t *p = t->p;
     uint32_t n = p->count;
@@ -322,7 +322,6 @@ static int make_clusters(rc_t *t, char *err, size_t errlen)
         first += nd->count, k++;
     }
     bvh_free(&b);
-    (void)err, (void)errlen;
     return 0;
 }
 
@@ -437,7 +436,7 @@ static void rc_destroy(accel *a)
     free(t);
 }
 
-static accel *build_fallback(const scene_t *scene, const char *name, char *err, size_t errlen)
+static accel *build_fallback(const scene_t *scene, const accel_params *params, const char *name, char *err, size_t errlen)
 {
     const struct accel_ops *ops = accel_find(name);
     if (!ops || strcmp(name, "raycoh") == 0 || !ops->intersect || (ops->flags & (ACCEL_MUTATES | ACCEL_SHADOW_ONLY))) {
@@ -447,6 +446,7 @@ static accel *build_fallback(const scene_t *scene, const char *name, char *err, 
     }
     accel_params fp;
     params_defaults(&fp, ops->params);
+    fp.threads = params->threads, fp.seed = params->seed; /* the harness's, not table entries */
     char sub[400];
     accel *fb = accel_build(ops, scene, &fp, sub, sizeof sub);
     if (!fb) {
@@ -483,7 +483,7 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
     t->p = &scene->prims;
     t->res = (uint32_t)res, t->objsize = (uint32_t)objsize, t->spheres = spheres == 1;
     t->ncell_per_obj = 6 * t->res * t->res;
-    t->fb = build_fallback(scene, params_get(params, "fallback"), err, errlen);
+    t->fb = build_fallback(scene, params, params_get(params, "fallback"), err, errlen);
     if (!t->fb) goto fail;
     uint32_t n = t->p->count;
     uint64_t maxobj = n ? (n + t->objsize - 1) / t->objsize * 2 : 0; /* median leaves hold at least objsize/2 */
@@ -501,7 +501,13 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
     t->nodes = malloc((size_t)4 * t->ncell_per_obj * sizeof *t->nodes);
     if (!t->nodes) goto oom;
     for (int f = 0; f < 6; f++) t->roots[f] = build_node(t, f, 0, (uint16_t)t->res, 0, (uint16_t)t->res);
-    if (n && make_clusters(t, err, errlen)) goto oom;
+    if (n && make_clusters(t)) goto oom;
+    /* Every cluster is listed in at least one cell of every cube: nobj^2 entries at least, known before any. */
+    uint64_t least = memcap_add(memcap_mul(memcap_mul(t->nobj, t->nobj), sizeof(rc_ref)),
+                                memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rc_cell) + 4));
+    if (memcap_exceeded(least, (uint64_t)cap, err, errlen, "raycoh's %u clusters, all pairs listed at least once,",
+                        t->nobj))
+        goto fail;
     t->cells = calloc((size_t)t->nobj * t->ncell_per_obj + 1, sizeof *t->cells);
     /* Per cube: the pairs, and every cluster's cells (a cube may list a cluster in all its cells). */
     rc_pair *pairs = malloc((size_t)t->nobj * sizeof *pairs + 1);
