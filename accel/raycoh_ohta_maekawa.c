@@ -126,7 +126,7 @@
 #define RC_UV_MARGIN 1e-3      /* cells grown by this in u and v */
 #define RC_ANGLE_SLACK 1e-6    /* radians added to every cone-cone test */
 #define RC_DEPTH_SLACK 1e-6    /* d shrunk by this relative amount */
-#define RC_STOP_SLACK 1e-5f    /* t |dir| grown by this before comparing with d */
+#define RC_STOP_SLACK 1e-5     /* t |dir| grown by this before comparing with d */
 #define RC_NO_OBJ UINT32_MAX
 
 typedef struct { vec3 c; float r; uint32_t first, count; } rc_obj; /* 24 bytes */
@@ -547,6 +547,15 @@ static inline uint32_t origin_cluster(const rc_t *t, const ray_t *ray)
     return dx * dx + dy * dy + dz * dz <= r * r ? k : RC_NO_OBJ;
 }
 
+/* |dir| grown by the stop slack, in double: a float |dir|^2 underflows to 0
+ * for directions of tiny components (which would stop every walk at once)
+ * and overflows for huge ones. */
+static inline double ray_dir_len(const ray_t *ray)
+{
+    double x = ray->dir.x, y = ray->dir.y, z = ray->dir.z;
+    return sqrt(x * x + y * y + z * z) * (1.0 + RC_STOP_SLACK);
+}
+
 /* Whether the ray may meet cluster o's primitives in [tnear, tmax]: its
  * line passes within the sphere (radius grown by 2 margin, as the cones
  * are, and by 1e-6 relative) and the chord through it overlaps the range
@@ -568,11 +577,11 @@ static inline __attribute__((always_inline)) bool walk_closest(const rc_t *t, ui
                                                                counters_t *c, const bool counting)
 {
     const rc_cell *cl = &t->cells[(size_t)k * t->ncell_per_obj + cell_of(t, ray->dir)];
-    float dl = v3_len(ray->dir) * (1.0f + RC_STOP_SLACK);
+    double dl = ray_dir_len(ray);
     if (counting && !cl->count) c->empty_leaves++;
     const rc_ref *r = &t->refs[cl->first], *end = r + cl->count;
     for (; r < end; r++) {
-        if (r->d > hit->t * dl) break; /* every later object lies beyond the closest hit */
+        if (r->d > hit->t * dl) break; /* every later object lies beyond the closest hit (double: no overflow) */
         if (counting) c->steps++, c->box_tests += t->spheres;
         const rc_obj *o = &t->objs[r->obj];
         if (t->spheres && !sphere_may_hit(t, o, ray, hit->t)) continue;
@@ -585,7 +594,7 @@ static inline __attribute__((always_inline)) bool walk_any(const rc_t *t, uint32
                                                            const bool counting)
 {
     const rc_cell *cl = &t->cells[(size_t)k * t->ncell_per_obj + cell_of(t, ray->dir)];
-    float reach = ray->tfar * v3_len(ray->dir) * (1.0f + RC_STOP_SLACK);
+    double reach = ray->tfar * ray_dir_len(ray);
     if (counting && !cl->count) c->empty_leaves++;
     const rc_ref *r = &t->refs[cl->first], *end = r + cl->count;
     for (; r < end; r++) {

@@ -147,10 +147,14 @@ static rayset_t *secondary_rays(const scene_t *s, accel *ref, query_kind q)
             ray_t r = rs->rays[i];
             if (q == QUERY_ANY && r.tfar == INFINITY) r.tfar = 1e30f;
             if (i % 2) {
-                r.dir = v3_scale(unit_random(), i % 4 == 1 ? 1.0f : 3.0f); /* t in units of dir, |dir| != 1 too */
-                r.tfar = i % 3 ? INFINITY : 0.5f * box_diagonal(s->prims.box);
+                /* t in units of dir: |dir| of 1, 3 and 1e-3. (Not far smaller: at 1e-22 a float
+                 * |dir|^2 is denormal and the primitives' own tests, exhaustive's and bsp's too,
+                 * stop being exact, so no reference is left to compare with.) */
+                r.dir = v3_scale(unit_random(), i % 4 == 1 ? 1.0f : i % 8 == 3 ? 3.0f : 1e-3f);
+                float len = 1.0f / v3_len(r.dir);
+                r.tfar = i % 3 ? INFINITY : 0.5f * box_diagonal(s->prims.box) * len;
                 if (i % 5 == 0) r.tnear = 0.01f * r.tfar;
-                if (q == QUERY_ANY && r.tfar == INFINITY) r.tfar = 2.0f * box_diagonal(s->prims.box);
+                if (q == QUERY_ANY && r.tfar == INFINITY) r.tfar = 2.0f * box_diagonal(s->prims.box) * len;
             }
             rayset_push(out, &r, 0);
         }
