@@ -122,6 +122,15 @@ struct accel_ops {
      * changes the counters from run to run. NULL: never. The harness then
      * traces it on one thread, as a mutating one (accel_serial). */
     bool (*order_dependent)(const accel *a);
+    /* Settle, before the parameters are written down (the CSV's params,
+     * the cell key), values that depend on the machine alone and not on
+     * the scene, so the row says what ran: `bvh`'s isa=auto becomes the
+     * instruction set build() will pick on this CPU. Values it does not
+     * know are left for build() to refuse. Appended after order_dependent
+     * (tables are designated initializers, so every other one has NULL:
+     * nothing to settle); the harness calls it through
+     * accel_settle_params(). */
+    void (*settle_params)(accel_params *params);
 };
 
 /* The base of every accelerator object. */
@@ -139,6 +148,8 @@ const struct accel_ops *accel_find(const char *name);
  * and sets the base's ops and scene. NULL with a one-line reason in err. */
 accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const accel_params *params, char *err,
                    size_t errlen);
+/* ops's settle_params() on params, when it has one (nothing otherwise). */
+void accel_settle_params(const struct accel_ops *ops, accel_params *params);
 /* Whether a has a reset(), and a call of it when it has (tracing changes
  * nothing in the others). */
 bool accel_resets(const accel *a);

@@ -425,4 +425,5 @@ extern "C" const struct accel_ops accel_cgal_aabb = {
     /* .occluded_fast = */ NULL,
     /* .variants = */ cgal_variants,
     /* .order_dependent = */ NULL,
+    /* .settle_params = */ NULL,
 };

@@ -964,7 +964,7 @@ static int cullinfo_build(const prims_t *p, lb_cullinfo *ci)
     ntri = m;
     /* Vertices matched by exact position. */
     for (uint32_t i = 0; i < nv; i++) order[i] = i;
-    vkey_base = &p->verts[0].x;
+    vkey_base = nv ? &p->verts[0].x : NULL; /* a scene of spheres and cones has no vertex array */
     qsort(order, nv, sizeof *order, vkey_cmp);
     for (uint32_t i = 0; i < nv; i++) canon[order[i]] = i && !vkey_cmp(&order[i], &order[i - 1]) ? canon[order[i - 1]] : order[i];
     /* Directed edges; an undirected edge must be used exactly once each way. */

@@ -67,9 +67,10 @@
  * with its defaults, and is counted as it counts.
  *
  * Parameters (defaults): res (8) cells per cube face side, 1..64;
- * objsize (64) primitives per cluster at most, 1..65536; fallback (bsp)
- * the accelerator for rays without a usable origin, any registered one
- * that answers closest hits, does not mutate and is not raycoh; spheres
+ * objsize (64) primitives per cluster at most, 1..65536; fallback (bvh,
+ * the wide SIMD BVH, the fastest besides Embree) the accelerator for rays
+ * without a usable origin, any registered one that answers closest hits,
+ * does not mutate and is not raycoh; spheres
  * (on) a listed cluster's bounding sphere tested before its primitives;
  * memcap
  * (4096) MiB for the clusters, cubes and lists (the fallback has its own
@@ -166,7 +167,7 @@ typedef struct { accel_ctx *fb; void (*fb_free)(accel_ctx *); } rc_ctx; /* the f
 static const accel_param rc_params[] = {
     {"res", "8", "cells per direction-cube face side, 1..64 (6 res^2 cells per cluster)"},
     {"objsize", "64", "primitives per cluster at most, 1..65536 (clusters: the kit's median BVH leaves)"},
-    {"fallback", "bsp", "accelerator for rays without a usable origin primitive (eye, random rays): a registry name"},
+    {"fallback", "bvh", "accelerator for rays without a usable origin primitive (eye, random rays): a registry name"},
     {"spheres", "on", "on|off: test a listed cluster's bounding sphere before its primitives (an object's own bound)"},
     {"memcap", "4096", "MiB: refuse a build whose clusters, cells and lists exceed it"},
     {NULL, NULL, NULL},

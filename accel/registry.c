@@ -82,6 +82,11 @@ accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const acce
     return a;
 }
 
+void accel_settle_params(const struct accel_ops *ops, accel_params *params)
+{
+    if (ops->version >= 2 && ops->settle_params) ops->settle_params(params);
+}
+
 bool accel_resets(const accel *a) { return a->ops->version >= 2 && a->ops->reset; }
 
 bool accel_serial(const accel *a)

@@ -424,6 +424,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     if (resources_apply_memcap(o)) return 2;
     for (int i = 0; i < o->naccels; i++) {
         accel_config *ac = &o->accels[i];
+        accel_settle_params(ac->ops, &ac->params); /* machine-dependent values (bvh's isa=auto) as they will run */
         params_format(&ac->params, ac->params_str, sizeof ac->params_str);
         /* Short label for tables: the name, plus [k=v,...] for the parameters that differ from the defaults. */
         size_t n = (size_t)snprintf(ac->label, sizeof ac->label, "%s", ac->ops->name);

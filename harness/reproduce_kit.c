@@ -304,6 +304,7 @@ meas *rp_measure(rp_kit *k, const char *table, const char *variant, const char *
         fprintf(stderr, "accelbench: reproduce: %s.%s\n", name, err);
         return NULL;
     }
+    accel_settle_params(ac.ops, &ac.params); /* machine-dependent values as they will run */
     params_format(&ac.params, ac.params_str, sizeof ac.params_str);
     snprintf(ac.label, sizeof ac.label, "%s", name);
 

@@ -158,6 +158,41 @@ bool prim_occluded_fast(const prims_t *p, uint32_t id, const ray_t *ray);
 bool prim_intersect_leaf_fast(const prims_t *p, const uint32_t *ids, uint32_t n, const ray_t *ray, hit_t *hit);
 bool prim_occluded_leaf_fast(const prims_t *p, const uint32_t *ids, uint32_t n, const ray_t *ray);
 
+/* --- triangle packets (tri_packet.c) ---
+ *
+ * Triangles copied out of the store in groups of PRIM_TRI_LANES, corners in
+ * SoA (v[corner][axis][lane]), for accelerators that keep their leaves'
+ * triangles next to their nodes: no id -> index -> vertex indirection and
+ * one ray set-up (the watertight test's shear) per call instead of one per
+ * triangle. The tests are prim_intersect_leaf / prim_occluded_leaf over
+ * the packed ids in lane order, with the same arithmetic (tri_sheared.h,
+ * shared with the one-triangle test): the same hit bit for bit, one test
+ * counted per triangle and one hit per closer hit, occluded stopping at
+ * the first occluder. A degenerate triangle is stored with NaN corners,
+ * which no ray hits (still counted as tested, as prim_intersect does).
+ * Memory: 160 bytes a packet (corners 144, ids 16). */
+#define PRIM_TRI_LANES 4
+#define PRIM_TRI_NO_ID UINT32_MAX /* an unused lane (only the last packet of a group has them) */
+typedef struct {
+    float v[3][3][PRIM_TRI_LANES]; /* corner a, b, c; axis x, y, z; lane */
+    uint32_t id[PRIM_TRI_LANES];   /* primitive ids, PRIM_TRI_NO_ID in unused lanes */
+} prim_tri_packet;
+static_assert(sizeof(prim_tri_packet) == 160, "prim_tri_packet: 3*3*4*4 + 4*4 = 160 bytes");
+
+/* Packets for n ids: ceil(n / PRIM_TRI_LANES). */
+static inline uint32_t prim_tri_packets(uint32_t n) { return (n + PRIM_TRI_LANES - 1) / PRIM_TRI_LANES; }
+/* Whether every one of ids[0 .. n) is a triangle (what can be packed). */
+bool prim_all_triangles(const prims_t *p, const uint32_t *ids, uint32_t n);
+/* Pack ids[0 .. n), all triangles, into out[0 .. prim_tri_packets(n)),
+ * in order. */
+void prim_tri_pack(const prims_t *p, const uint32_t *ids, uint32_t n, prim_tri_packet *out);
+/* Closest hit and any hit over the npk packets pk[0 .. npk) (the contract
+ * of prim_intersect_leaf and prim_occluded_leaf), counting and not. */
+bool prim_intersect_tris(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray, hit_t *hit, counters_t *c);
+bool prim_occluded_tris(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray, counters_t *c);
+bool prim_intersect_tris_fast(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray, hit_t *hit);
+bool prim_occluded_tris_fast(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray);
+
 /* The exact extent of primitive id along dir (any length, not 0 needed):
  * [*lo, *hi] contains min and max of dot(x, dir) over its points x,
  * rounded outward to float (at most about an ulp wider at each end; see

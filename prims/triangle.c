@@ -26,6 +26,7 @@
  * the triangle's edges; both are for verification only. */
 #include "prims_internal.h"
 #include "shear.h" /* the ray-space shear and edge functions; also turns FP contraction off */
+#include "tri_sheared.h" /* the test proper, in the sheared frame: shared with the packets (tri_packet.c) */
 
 /* ---------------------------------------------------------------------- */
 /* Watertight test, single precision (Woop et al. 2013, section 3)         */
@@ -40,43 +41,8 @@ bool triangle_intersect(vec3 a, vec3 b, vec3 c, const ray_t *ray, float tmax, fl
 {
     shear_t s;
     if (!ray_shear(ray->dir, &s)) return false;
-
-    sheared_t A = shear_vertex(&s, a, ray->org);
-    sheared_t B = shear_vertex(&s, b, ray->org);
-    sheared_t C = shear_vertex(&s, c, ray->org);
-
-    /* Scaled barycentrics: U weights a (the edge b-c opposite it), V
-     * weights b, W weights c. */
-    float U = edge_function(C, B);
-    float V = edge_function(A, C);
-    float W = edge_function(B, A);
-    if (U == 0.0f || V == 0.0f || W == 0.0f) {
-        U = edge_function_double(C, B);
-        V = edge_function_double(A, C);
-        W = edge_function_double(B, A);
-    }
-
-    /* Two-sided: inside means all three have the same sign; zeros (the ray
-     * on an edge or vertex) count as inside so shared edges are covered. */
-    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
-
-    /* det = 0: the ray is parallel to the plane or the triangle has no
-     * projected area (degenerate); also catches all three being 0. */
-    float det = U + V + W;
-    if (det == 0.0f) return false;
-
-    /* Hit distance: the barycentric interpolation of the scaled, sheared z
-     * values. Dividing here (rather than comparing T against tnear*det and
-     * tmax*det, as the paper does to defer the division) makes the range
-     * test apply to exactly the t we return. A NaN fails it. */
-    float T = U * (s.sz * A.z) + V * (s.sz * B.z) + W * (s.sz * C.z);
-    float tt = T / det;
-    if (!(tt >= ray->tnear && tt < tmax)) return false;
-
-    *t = tt;
-    *u = V / det;
-    *v = W / det;
-    return true;
+    return triangle_sheared_hit(&s, shear_vertex(&s, a, ray->org), shear_vertex(&s, b, ray->org),
+                                shear_vertex(&s, c, ray->org), ray, tmax, t, u, v);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -270,7 +270,7 @@ static int off_check(const char *data, size_t size, const char *path, char *err,
     size_t kw = strcspn(l, MESH_BLANKS);
     /* A file that starts with its counts is read as OFF too (the fuzzer's
      * "3 1 0" file with a face of 295 vertices crashed assimp). */
-    bool headerless = isdigit((unsigned char)l[0]);
+    bool headerless = kw && strspn(l, "0123456789") == kw; /* a count, not "4OFF" */
     if (headerless) kw = 0;
     else if (!off_xyz_keyword(l, kw)) return off_counts_check(data, size, path, err, errlen);
     double cnt[3];

@@ -20,16 +20,7 @@
 static const char *const travs[] = {"recursive", "sequential", "havran"};
 static const char *const builders[] = {"split=midpoint", "split=sah", "split=sah,perfect=on"};
 
-static accel *bsp_with(const scene_t *s, const char *cfg)
-{
-    char err[512];
-    accel *a = test_build_with(accel_find("bsp"), s, cfg, 1, err, sizeof err);
-    if (!a) {
-        fprintf(stderr, "bsp [%s] on %s: %s\n", cfg, s->name, err);
-        exit(2);
-    }
-    return a;
-}
+static accel *bsp_with(const scene_t *s, const char *cfg) { return test_build_or_die("bsp", s, cfg); }
 
 static void tri(scene_t *s, vec3 a, vec3 b, vec3 c)
 {
@@ -37,14 +28,7 @@ static void tri(scene_t *s, vec3 a, vec3 b, vec3 c)
     prims_add_triangle(&s->prims, i, j, k);
 }
 
-static void finish(scene_t *s)
-{
-    char err[256];
-    if (scene_finish(s, false, err, sizeof err)) {
-        fprintf(stderr, "%s: %s\n", s->name, err);
-        exit(2);
-    }
-}
+static void finish(scene_t *s) { test_finish_scene(s); }
 
 static void push(rayset_t *rs, vec3 o, vec3 d)
 {
@@ -54,11 +38,7 @@ static void push(rayset_t *rs, vec3 o, vec3 d)
 
 /* A small deterministic generator (the tests must not depend on libc's). */
 static uint32_t rng = 12345;
-static float urand(void)
-{
-    rng = rng * 1664525u + 1013904223u;
-    return (float)(rng >> 8) / 16777216.0f;
-}
+static float urand(void) { return test_urand(&rng); }
 static float srand1(void) { return 2.0f * urand() - 1.0f; }
 
 /* Does the subtree at node hold primitive id? */
@@ -347,12 +327,7 @@ static void test_one_cell(void)
 
 static void expect_refusal(const scene_t *s, const char *cfg, const char *needle)
 {
-    char err[512] = "";
-    accel *a = test_build_with(accel_find("bsp"), s, cfg, 1, err, sizeof err);
-    CHECK_MSG(a == NULL, "[%s] was accepted", cfg);
-    CHECK_MSG(strstr(err, needle) != NULL, "[%s]: the reason \"%s\" does not name \"%s\"", cfg, err, needle);
-    printf("refused [%s]: %s\n", cfg, err);
-    if (a) a->ops->destroy(a);
+    test_expect_refusal("bsp", s, cfg, needle);
 }
 
 static void test_refusals(void)

@@ -38,32 +38,12 @@
 #include "testlib.h"
 
 static uint32_t rng = 777;
-static float urand(void)
-{
-    rng = rng * 1664525u + 1013904223u;
-    return (float)(rng >> 8) / 16777216.0f;
-}
+static float urand(void) { return test_urand(&rng); }
 static float srand1(void) { return 2.0f * urand() - 1.0f; }
 
-static accel *lb_with(const scene_t *s, const char *cfg)
-{
-    char err[512];
-    accel *a = test_build_with(accel_find("lightbuf"), s, cfg, 1, err, sizeof err);
-    if (!a) {
-        fprintf(stderr, "lightbuf [%s] on %s: %s\n", cfg, s->name, err);
-        exit(2);
-    }
-    return a;
-}
+static accel *lb_with(const scene_t *s, const char *cfg) { return test_build_or_die("lightbuf", s, cfg); }
 
-static void finish(scene_t *s)
-{
-    char err[256];
-    if (scene_finish(s, false, err, sizeof err)) {
-        fprintf(stderr, "%s: %s\n", s->name, err);
-        exit(2);
-    }
-}
+static void finish(scene_t *s) { test_finish_scene(s); }
 
 static uint32_t tri(scene_t *s, vec3 a, vec3 b, vec3 c)
 {
@@ -478,12 +458,10 @@ static void test_refusals(void)
     char err[512];
     accel *a = test_build_with(ops, s, "res=1024,memcap=1", 1, err, sizeof err);
     CHECK_MSG(!a && strstr(err, "memcap=1"), "res=1024 under memcap=1: %s", a ? "built" : err);
-    a = test_build_with(ops, s, "res=1025", 1, err, sizeof err);
-    CHECK_MSG(!a && strstr(err, "res"), "res=1025: %s", a ? "built" : err);
-    a = test_build_with(ops, s, "res=0", 1, err, sizeof err);
-    CHECK(!a);
-    a = test_build_with(ops, s, "cull=maybe", 1, err, sizeof err);
-    CHECK_MSG(!a && strstr(err, "cull"), "cull=maybe: %s", a ? "built" : err);
+    if (a) a->ops->destroy(a);
+    test_expect_refusal("lightbuf", s, "res=1025", "res");
+    test_expect_refusal("lightbuf", s, "res=0", "res");
+    test_expect_refusal("lightbuf", s, "cull=maybe", "cull");
     scene_free(s);
     /* The lists, not the cells, over the cap: spd:balls:3's three lights
      * at res=256 need 22.6 MiB before their lists (cells 18 MiB, scratch

@@ -30,23 +30,10 @@
 #include "testlib.h"
 
 static uint32_t rng = 777;
-static float urand(void)
-{
-    rng = rng * 1664525u + 1013904223u;
-    return (float)(rng >> 8) / 16777216.0f;
-}
+static float urand(void) { return test_urand(&rng); }
 static float srand1(void) { return 2.0f * urand() - 1.0f; }
 
-static accel *rc_with(const scene_t *s, const char *cfg)
-{
-    char err[512];
-    accel *a = test_build_with(accel_find("raycls"), s, cfg, 1, err, sizeof err);
-    if (!a) {
-        fprintf(stderr, "raycls [%s] on %s: %s\n", cfg, s->name, err);
-        exit(2);
-    }
-    return a;
-}
+static accel *rc_with(const scene_t *s, const char *cfg) { return test_build_or_die("raycls", s, cfg); }
 
 /* ---------------------------------------------------------- the beams */
 
@@ -120,14 +107,7 @@ static void test_beams(void)
 
 /* ------------------------------------------------------------- scenes */
 
-static void finish(scene_t *s)
-{
-    char err[256];
-    if (scene_finish(s, false, err, sizeof err)) {
-        fprintf(stderr, "%s: %s\n", s->name, err);
-        exit(2);
-    }
-}
+static void finish(scene_t *s) { test_finish_scene(s); }
 
 static uint32_t vtx(scene_t *s, vec3 p) { return prims_add_vertex(&s->prims, p); }
 
@@ -338,12 +318,7 @@ static void test_refusals(void)
         {"maxdepth=21", "maxdepth"}, {"maxdepth=-1", "maxdepth"}, {"maxdepth=x", "maxdepth"}, {"maxcands=0", "maxcands"},
         {"truncate=-1", "truncate"}, {"lazy=maybe", "lazy"},     {"beam=box", "beam"},       {"memcap=0", "memcap"},
     };
-    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        char err[512] = "";
-        accel *a = test_build_with(accel_find("raycls"), s, bad[i][0], 1, err, sizeof err);
-        CHECK_MSG(a == NULL && strstr(err, bad[i][1]), "%s: %s", bad[i][0], a ? "accepted" : err);
-        if (a) a->ops->destroy(a);
-    }
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) test_expect_refusal("raycls", s, bad[i][0], bad[i][1]);
     scene_free(s);
 }
 

@@ -29,32 +29,12 @@
 
 /* A small deterministic generator (the tests must not depend on libc's). */
 static uint32_t rng = 4242;
-static float urand(void)
-{
-    rng = rng * 1664525u + 1013904223u;
-    return (float)(rng >> 8) / 16777216.0f;
-}
+static float urand(void) { return test_urand(&rng); }
 static float srand1(void) { return 2.0f * urand() - 1.0f; }
 
-static accel *kk_with(const scene_t *s, const char *cfg)
-{
-    char err[512];
-    accel *a = test_build_with(accel_find("slabs-kk"), s, cfg, 1, err, sizeof err);
-    if (!a) {
-        fprintf(stderr, "slabs-kk [%s] on %s: %s\n", cfg, s->name, err);
-        exit(2);
-    }
-    return a;
-}
+static accel *kk_with(const scene_t *s, const char *cfg) { return test_build_or_die("slabs-kk", s, cfg); }
 
-static void finish(scene_t *s)
-{
-    char err[256];
-    if (scene_finish(s, false, err, sizeof err)) {
-        fprintf(stderr, "%s: %s\n", s->name, err);
-        exit(2);
-    }
-}
+static void finish(scene_t *s) { test_finish_scene(s); }
 
 static void tri(scene_t *s, vec3 a, vec3 b, vec3 c)
 {
@@ -491,12 +471,7 @@ static void test_refusals(void)
     scene_t *s = soup();
     const char *bad[][2] = {{"normals=5", "normals"}, {"tree=kd", "tree"}, {"traverse=bfs", "traverse"},
                             {"maxleaf=0", "maxleaf"}, {"maxleaf=17", "maxleaf"}, {"memcap=0", "memcap"}};
-    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        char err[512] = "";
-        accel *a = test_build_with(accel_find("slabs-kk"), s, bad[i][0], 1, err, sizeof err);
-        CHECK_MSG(!a && strstr(err, bad[i][1]), "%s: %s", bad[i][0], a ? "accepted" : err);
-        if (a) a->ops->destroy(a);
-    }
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) test_expect_refusal("slabs-kk", s, bad[i][0], bad[i][1]);
     /* The memory cap: 7381 spheres need some 2.5 MiB with 7 normals. */
     scene_t *big = test_scene("spd:balls:4");
     char err[512] = "";

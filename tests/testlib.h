@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include "accel/accel.h"
 #include "harness/trace.h"
 #include "harness/verify.h"
@@ -50,6 +51,51 @@ static inline accel *test_build_with(const struct accel_ops *ops, const scene_t 
     p.threads = threads;
     if (params_set_list(&p, settings ? settings : "", err, errlen)) return NULL;
     return accel_build(ops, s, &p, err, errlen);
+}
+
+/* Build the registered accelerator `name` with "k=v,k=v" over its defaults
+ * on one thread, or print why and exit 2 (a test that cannot build its
+ * subject proves nothing). */
+static inline accel *test_build_or_die(const char *name, const scene_t *s, const char *settings)
+{
+    const struct accel_ops *ops = accel_find(name);
+    char err[512] = "not registered";
+    accel *a = ops ? test_build_with(ops, s, settings, 1, err, sizeof err) : NULL;
+    if (!a) {
+        fprintf(stderr, "%s [%s] on %s: %s\n", name, settings ? settings : "", s->name, err);
+        exit(2);
+    }
+    return a;
+}
+
+/* The build of `name` with settings cfg must be refused with a reason that
+ * names needle (a parameter, a limit): one CHECK, one printed line. */
+static inline void test_expect_refusal(const char *name, const scene_t *s, const char *cfg, const char *needle)
+{
+    char err[512] = "";
+    accel *a = test_build_with(accel_find(name), s, cfg, 1, err, sizeof err);
+    CHECK_MSG(a == NULL && strstr(err, needle) != NULL, "%s [%s]: %s (the reason must name \"%s\")", name, cfg,
+              a ? "accepted" : err, needle);
+    printf("%s refused [%s]: %s\n", name, cfg, err);
+    if (a) a->ops->destroy(a);
+}
+
+/* scene_finish() on a scene a test made by hand, or print why and exit 2. */
+static inline void test_finish_scene(scene_t *s)
+{
+    char err[256];
+    if (scene_finish(s, false, err, sizeof err)) {
+        fprintf(stderr, "%s: %s\n", s->name, err);
+        exit(2);
+    }
+}
+
+/* A small deterministic generator (the tests must not depend on libc's):
+ * uniform in [0, 1) from the caller's state. */
+static inline float test_urand(uint32_t *state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return (float)(*state >> 8) / 16777216.0f;
 }
 
 static inline workload_opts test_wl(int w, int h, int threads)

@@ -1,0 +1,179 @@
+/* wide.h: the wide BVH of the `bvh` accelerator (accel/bvh_champion.c):
+ * node layouts for 4 and 8 children, the collapse from the kit's binary
+ * tree (collapse.c), the traversal kernels per instruction set
+ * (wide_traverse_*.c on the one walk of wide_walk.h) and their dispatch
+ * (wide_isa.c).
+ *
+ * Literature:
+ *   - the binary tree is the kit's binned SAH build (build_sah.c: MacDonald
+ *     and Booth, The Visual Computer 6(3), 1990; Wald, IEEE RT 2007);
+ *   - wide nodes that test all their children's boxes at once with SIMD
+ *     instructions: Dammertz, Hanika, Keller, "Shallow Bounding Volume
+ *     Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR 2008
+ *     (QBVH: 4 children, boxes in SoA, ordered traversal), Ernst and
+ *     Greiner, "Multi Bounding Volume Hierarchies", IEEE RT 2008 (MBVH, the
+ *     collapse of a binary SAH tree), and Wald, Benthin, Boulos, "Getting
+ *     Rid of Packets", IEEE RT 2008 (single rays against 4-wide nodes);
+ *   - the collapse rule (open the child of largest surface area until the
+ *     node is full or only leaves remain) is the greedy one these papers
+ *     describe;
+ *   - robust box tests: Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013,
+ *     as accel/common/slab.h applies it (far distances scaled by
+ *     SLAB_FAR_SCALE), with the near and far planes chosen by the sign of
+ *     the reciprocal direction (Williams et al., JGT 10(1), 2005), so +-0
+ *     direction components are right with no branch.
+ *
+ * Node layouts (W = 4 or 8 children; sizes asserted below):
+ *   box[6][W]  floats, one row per plane, W children side by side (SoA):
+ *              rows 0 lo_x, 1 hi_x, 2 lo_y, 3 hi_y, 4 lo_z, 5 hi_z; an
+ *              unused slot holds the empty box (lo +inf, hi -inf), which
+ *              every ray misses, so the SIMD test needs no lane mask;
+ *   child[W]   uint32: an interior child's node index; a leaf's first entry
+ *              of refs with WIDE_LEAF set, or (a leaf of triangles only,
+ *              after wide_pack_leaves) its first packet with WIDE_LEAF and
+ *              WIDE_PACKED set; WIDE_EMPTY for an unused slot;
+ *   count[W]   uint8: a leaf's primitives (1..255), 0 for an interior child;
+ *   nchildren  uint8: used slots, always the first ones;
+ *   padding to a multiple of the 64-byte cache line.
+ *   BVH4: 4*6*4 + 4*4 + 4 + 1 = 117 bytes used, 128 with padding (2 lines);
+ *   BVH8: 8*6*4 + 8*4 + 8 + 1 = 233 bytes used, 256 with padding (4 lines).
+ * Memory layout: nodes[nnodes] (64-byte aligned; node 0 the root, which is
+ * always interior: a tree whose binary root is a leaf gets a root of one
+ * leaf child), then refs[nrefs] uint32 primitive ids, each leaf's a
+ * contiguous run (taken over from the binary tree), then (packets on)
+ * packets[npackets], prims/'s prim_tri_packet (160 bytes: 4 triangles'
+ * corners in SoA and their ids), each all-triangle leaf's
+ * ceil(count / 4) of them contiguous, 64-byte aligned. An empty scene has
+ * nnodes == 0. Total = node bytes * nnodes + 4 nrefs + 160 npackets
+ * (wide_memory()).
+ * Per context: the traversal stack, 12 bytes an entry, (W - 1) (depth + 1)
+ * + 1 entries: enough for any walk of this tree (wide_stack_cap()). */
+#ifndef ACCELBENCH_BVH_WIDE_H
+#define ACCELBENCH_BVH_WIDE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include "bvh.h"
+#include "../common/slab.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define WIDE_LEAF 0x80000000u  /* child[] flag: a leaf, the rest is its first entry of refs */
+#define WIDE_PACKED 0x40000000u /* with WIDE_LEAF: a leaf of triangles packed, the rest its first packet */
+#define WIDE_INDEX 0x3FFFFFFFu  /* child[] bits of a leaf's first ref or packet */
+#define WIDE_EMPTY 0xFFFFFFFFu /* child[] of an unused slot */
+#define WIDE_MAX_LEAF 255      /* count[] is a byte */
+
+typedef struct {
+    float box[6][4];   /* 96: planes of the 4 children, SoA (rows above) */
+    uint32_t child[4]; /* 16: node index, WIDE_LEAF | first ref, or WIDE_EMPTY */
+    uint8_t count[4];  /*  4: leaf primitives, 0 for interior */
+    uint8_t nchildren; /*  1: used slots */
+    uint8_t pad[11];   /* 11: to 128 */
+} wide4_node;
+_Static_assert(sizeof(wide4_node) == 128, "wide4_node: 4*6*4 + 4*4 + 4 + 1 = 117 bytes used, 128 (two cache lines)");
+
+typedef struct {
+    float box[6][8];
+    uint32_t child[8];
+    uint8_t count[8];
+    uint8_t nchildren;
+    uint8_t pad[23];
+} wide8_node;
+_Static_assert(sizeof(wide8_node) == 256, "wide8_node: 8*6*4 + 8*4 + 8 + 1 = 233 bytes used, 256 (four cache lines)");
+
+/* Instruction sets of the box kernels, in order of preference. */
+typedef enum { WIDE_ISA_SCALAR = 0, WIDE_ISA_SSE42, WIDE_ISA_AVX2, WIDE_ISA_AVX512, WIDE_ISA_COUNT } wide_isa;
+extern const char *const wide_isa_names[WIDE_ISA_COUNT + 1]; /* "scalar", "sse42", "avx2", "avx512", NULL */
+
+/* Whether this CPU runs isa's kernels (scalar always; the others by
+ * __builtin_cpu_supports: sse4.2; avx2 and fma; avx512f and avx512vl). */
+bool wide_isa_supported(wide_isa isa);
+/* The best supported one. */
+wide_isa wide_isa_best(void);
+
+typedef struct {
+    void *nodes;        /* [nnodes] wide4_node or wide8_node, 64-byte aligned */
+    uint32_t *refs;     /* [nrefs] primitive ids, by leaf */
+    uint32_t width;     /* 4 or 8 */
+    uint32_t nnodes, nrefs;
+    uint32_t nleaves;   /* leaf children over all nodes */
+    uint32_t max_depth; /* deepest leaf, root = 0, a leaf one below its node */
+    uint64_t nchildren; /* used slots over all nodes: interior children + leaves */
+    prim_tri_packet *packets; /* [npackets] the all-triangle leaves' triangles (wide_pack_leaves), or NULL */
+    uint32_t npackets;
+} wide_bvh;
+
+/* Wide nodes the collapse of b to width makes (so a caller can check a
+ * memory cap before wide_collapse allocates them). */
+uint32_t wide_count_nodes(const bvh_t *b, uint32_t width);
+/* Collapse the binary tree b to width 4 or 8: each wide node starts from
+ * the two children of a binary interior node and repeatedly replaces the
+ * child of largest surface area that is interior by its two children,
+ * until it has width of them or all are leaves (ties: the first in slot
+ * order). Takes over b's refs (b->refs becomes NULL); b's nodes are only
+ * read. 0, or -1 out of memory (w empty, b unchanged). */
+int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width);
+void wide_free(wide_bvh *w);
+/* Packets wide_pack_leaves would make: ceil(count / 4) for every leaf whose
+ * primitives are all triangles. */
+uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p);
+/* Copy every all-triangle leaf's triangles into packets (prims.h
+ * prim_tri_pack) and point its slot at them (WIDE_PACKED); the walk then
+ * tests them with prim_intersect_tris / prim_occluded_tris, which answer
+ * and count as the leaf tests over refs do. Other leaves keep their refs.
+ * 0, or -1 out of memory (w unchanged). */
+int wide_pack_leaves(wide_bvh *w, const prims_t *p);
+size_t wide_node_bytes(uint32_t width);
+/* Bytes held: nodes and refs. */
+size_t wide_memory(const wide_bvh *w);
+/* Stack entries a walk of w can need at most. */
+uint32_t wide_stack_cap(const wide_bvh *w);
+/* Statistics (accel.h): nodes, leaves, max_depth, avg_leaf_prims,
+ * refs_per_prim, avg_children. */
+int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max);
+/* For tests: every node's slots hold their children's bounds (a child
+ * node's box is the union of its slots; a leaf's holds its primitives'
+ * boxes[]), unused slots empty, every primitive in one leaf, the counts
+ * right. 0, or -1 with the first failure in err. */
+int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size_t errlen);
+
+/* A stack entry: a child (as child[] holds it), its leaf count and the
+ * distance at which the ray enters its box. */
+typedef struct {
+    uint32_t child;
+    uint32_t count;
+    float t;
+} wide_entry;
+_Static_assert(sizeof(wide_entry) == 12, "wide_entry is 12 bytes");
+
+/* The four queries of one width and instruction set. stack has
+ * wide_stack_cap(w) entries. The accel.h contract; the _fast ones count
+ * nothing and give the same answers bit for bit. */
+typedef struct {
+    bool (*intersect)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit,
+                      counters_t *c);
+    bool (*occluded)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, counters_t *c);
+    bool (*intersect_fast)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit);
+    bool (*occluded_fast)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray);
+} wide_kernels;
+
+/* The kernels of isa for width 4 or 8; NULL when this build has none for
+ * it (a non-x86 target: only scalar). */
+const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width);
+
+/* Per ISA, [0] width 4, [1] width 8 (wide_traverse_*.c). */
+extern const wide_kernels wide_kernels_scalar[2];
+#if defined(__x86_64__) || defined(__i386__)
+extern const wide_kernels wide_kernels_sse42[2];
+extern const wide_kernels wide_kernels_avx2[2];
+extern const wide_kernels wide_kernels_avx512[2];
+#endif
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

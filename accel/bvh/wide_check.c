@@ -1,0 +1,111 @@
+/* wide_check.c: the structural check of a wide BVH (wide.h), for tests:
+ * what the walk assumes of the tree, checked node by node. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "wide.h"
+
+typedef struct {
+    const float *rows; /* box[6][W] */
+    const uint32_t *child;
+    const uint8_t *count;
+    uint32_t nchildren;
+} node_view;
+
+static node_view view(const wide_bvh *w, uint32_t i)
+{
+    node_view v;
+    if (w->width == 4) {
+        const wide4_node *n = &((const wide4_node *)w->nodes)[i];
+        v = (node_view){&n->box[0][0], n->child, n->count, n->nchildren};
+    } else {
+        const wide8_node *n = &((const wide8_node *)w->nodes)[i];
+        v = (node_view){&n->box[0][0], n->child, n->count, n->nchildren};
+    }
+    return v;
+}
+
+static box3 slot_box(const node_view *v, uint32_t W, uint32_t k)
+{
+    box3 b = {{v->rows[0 * W + k], v->rows[2 * W + k], v->rows[4 * W + k]},
+              {v->rows[1 * W + k], v->rows[3 * W + k], v->rows[5 * W + k]}};
+    return b;
+}
+
+static bool box_contains(box3 outer, box3 inner)
+{
+    return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
+           outer.hi.x >= inner.hi.x && outer.hi.y >= inner.hi.y && outer.hi.z >= inner.hi.z;
+}
+
+#define FAIL(...) do { snprintf(err, errlen, __VA_ARGS__); goto fail; } while (0)
+
+int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size_t errlen)
+{
+    const uint32_t W = w->width;
+    uint8_t *seen_prim = calloc((size_t)n + 1, 1), *seen_node = calloc((size_t)w->nnodes + 1, 1);
+    uint32_t *depth = calloc((size_t)w->nnodes + 1, sizeof *depth);
+    uint32_t leaves = 0, refs = 0, max_depth = 0;
+    uint64_t nchildren = 0, packets = 0;
+    if (!seen_prim || !seen_node || !depth) FAIL("out of memory");
+    if (W != 4 && W != 8) FAIL("width %u", W);
+    if (n && !w->nnodes) FAIL("no nodes over %u primitives", n);
+    if (w->nnodes) seen_node[0] = 1;
+    /* Children always come after their parent (collapse allocates them
+     * when it reaches them), so one pass in index order sees every
+     * parent's depth before its children. */
+    for (uint32_t i = 0; i < w->nnodes; i++) {
+        if (!seen_node[i]) FAIL("node %u is not reachable", i);
+        node_view v = view(w, i);
+        if (v.nchildren < 1 || v.nchildren > W) FAIL("node %u has %u children", i, v.nchildren);
+        if (v.nchildren < 2 && i != 0) FAIL("node %u has one child", i);
+        nchildren += v.nchildren;
+        for (uint32_t k = 0; k < W; k++) {
+            box3 b = slot_box(&v, W, k);
+            if (k >= v.nchildren) {
+                if (v.child[k] != WIDE_EMPTY || v.count[k] || !(b.lo.x == INFINITY && b.hi.x == -INFINITY))
+                    FAIL("node %u slot %u: unused but not empty", i, k);
+                continue;
+            }
+            if (v.child[k] & WIDE_LEAF) {
+                uint32_t first = v.child[k] & WIDE_INDEX, cnt = v.count[k];
+                bool packed = v.child[k] & WIDE_PACKED;
+                if (!cnt || (!packed && (uint64_t)first + cnt > w->nrefs) ||
+                    (packed && (uint64_t)first + prim_tri_packets(cnt) > w->npackets))
+                    FAIL("node %u slot %u: leaf [%u, +%u) out of %s", i, k, first, cnt, packed ? "packets" : "refs");
+                for (uint32_t j = 0; j < cnt; j++) {
+                    /* A packet leaf's lanes in order: the ids it was packed from, unused lanes only at the end. */
+                    uint32_t id = packed ? w->packets[first + j / PRIM_TRI_LANES].id[j % PRIM_TRI_LANES] : w->refs[first + j];
+                    if (packed && j + 1 == cnt && (j + 1) % PRIM_TRI_LANES &&
+                        w->packets[first + j / PRIM_TRI_LANES].id[(j + 1) % PRIM_TRI_LANES] != PRIM_TRI_NO_ID)
+                        FAIL("node %u slot %u: packet leaf of %u has more lanes", i, k, cnt);
+                    if (id >= n || seen_prim[id]) FAIL("primitive %u in two leaves or out of range", id);
+                    seen_prim[id] = 1;
+                    if (!box_contains(b, boxes[id])) FAIL("node %u slot %u does not contain primitive %u", i, k, id);
+                }
+                leaves++, refs += cnt;
+                packets += packed ? prim_tri_packets(cnt) : 0;
+                if (depth[i] + 1 > max_depth) max_depth = depth[i] + 1;
+                continue;
+            }
+            uint32_t c = v.child[k];
+            if (v.count[k] || c <= i || c >= w->nnodes || seen_node[c]) FAIL("node %u slot %u: bad child %u", i, k, c);
+            seen_node[c] = 1;
+            depth[c] = depth[i] + 1;
+            node_view cv = view(w, c);
+            box3 u = box_empty();
+            for (uint32_t j = 0; j < cv.nchildren; j++) u = box_union(u, slot_box(&cv, W, j));
+            if (!box_contains(b, u)) FAIL("node %u slot %u does not contain its node %u", i, k, c);
+        }
+    }
+    for (uint32_t id = 0; id < n; id++)
+        if (!seen_prim[id]) FAIL("primitive %u in no leaf", id);
+    if (packets != w->npackets) FAIL("packets: %llu used of %u", (unsigned long long)packets, w->npackets);
+    if (leaves != w->nleaves || refs != w->nrefs || max_depth != w->max_depth || nchildren != w->nchildren)
+        FAIL("counts: leaves %u/%u refs %u/%u depth %u/%u", leaves, w->nleaves, refs, w->nrefs, max_depth, w->max_depth);
+    free(seen_prim), free(seen_node), free(depth);
+    return 0;
+fail:
+    free(seen_prim), free(seen_node), free(depth);
+    return -1;
+}

@@ -1,0 +1,45 @@
+/* wide_traverse_sse42.c: the wide BVH's walk (wide_walk.h) with SSE4.2 box
+ * kernels: 4 children per 128-bit register (a BVH8 node in two halves).
+ * Compiled for SSE4.2 by per-function target attributes only, and run only
+ * where __builtin_cpu_supports("sse4.2") says so (wide_isa.c). */
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define WIDE_TARGET __attribute__((target("sse4.2")))
+#include "wide_walk.h"
+
+/* Four slots of a node whose rows are `stride` floats apart, starting at
+ * slot `off`: slab_clip_robust's arithmetic (wide_walk.h), lane by lane. */
+WIDE_FN unsigned box4_at(const wide_ray *r, const float *rows, const uint32_t stride, const uint32_t off, float t0,
+                         float t1, float *tn)
+{
+    __m128 a = _mm_set1_ps(t0), z = _mm_set1_ps(t1);
+    const __m128 scale = _mm_set1_ps(SLAB_FAR_SCALE);
+    for (uint32_t ax = 0; ax < 3; ax++) {
+        const __m128 o = _mm_set1_ps(r->org[ax]), inv = _mm_set1_ps(r->inv[ax]);
+        __m128 n = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + r->near[ax] * stride + off), o), inv);
+        __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + r->far[ax] * stride + off), o), inv), scale);
+        a = _mm_max_ps(n, a); /* a NaN n keeps a */
+        z = _mm_min_ps(f, z);
+    }
+    __m128 hit = _mm_and_ps(_mm_cmple_ps(a, z), _mm_and_ps(_mm_cmplt_ps(a, _mm_set1_ps(INFINITY)),
+                                                           _mm_cmpgt_ps(z, _mm_set1_ps(-INFINITY))));
+    _mm_store_ps(tn + off, a);
+    return (unsigned)_mm_movemask_ps(hit) << off;
+}
+
+WIDE_FN unsigned box4(const wide_ray *r, const void *node, float t0, float t1, float *tn)
+{
+    return box4_at(r, &((const wide4_node *)node)->box[0][0], 4, 0, t0, t1, tn);
+}
+
+WIDE_FN unsigned box8(const wide_ray *r, const void *node, float t0, float t1, float *tn)
+{
+    const float *rows = &((const wide8_node *)node)->box[0][0];
+    return box4_at(r, rows, 8, 0, t0, t1, tn) | box4_at(r, rows, 8, 4, t0, t1, tn);
+}
+
+WIDE_ENTRY_POINTS(sse4, 4, box4)
+WIDE_ENTRY_POINTS(sse8, 8, box8)
+
+const wide_kernels wide_kernels_sse42[2] = {WIDE_KERNELS(sse4), WIDE_KERNELS(sse8)};
+#endif

@@ -1,0 +1,356 @@
+/* bvh_champion.c: `bvh`, the wide SIMD BVH of issue 13 (first stage): a
+ * binned SAH binary tree collapsed to 4 or 8 children a node, traversed
+ * nearest child first with all children's boxes tested at once by SSE4.2,
+ * AVX2 or AVX-512 kernels chosen at run time.
+ *
+ * Papers:
+ *   - build: the kit's binned SAH builder (accel/bvh/build_sah.c): the
+ *     surface area heuristic of J. D. MacDonald, K. S. Booth, "Heuristics
+ *     for Ray Tracing Using Space Subdivision", The Visual Computer 6(3),
+ *     1990, binned as I. Wald, "On Fast Construction of SAH-based Bounding
+ *     Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007;
+ *   - wide nodes and their collapse from a binary SAH tree (accel/bvh/
+ *     collapse.c): H. Dammertz, J. Hanika, A. Keller, "Shallow Bounding
+ *     Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays",
+ *     EGSR 2008; M. Ernst, G. Greiner, "Multi Bounding Volume Hierarchies",
+ *     IEEE RT 2008; I. Wald, C. Benthin, S. Boulos, "Getting Rid of
+ *     Packets: Efficient SIMD Single-Ray Traversal using Multi-branching
+ *     BVHs", IEEE RT 2008;
+ *   - robust box tests: T. Ize, "Robust BVH Ray Traversal", JCGT 2(2),
+ *     2013, through accel/common/slab.h's arithmetic (wide_walk.h).
+ *
+ * Parameters (defaults):
+ *   width=8       children per node: 4 | 8.
+ *   bins=16       SAH bins per axis, 2..256 (Wald 2007).
+ *   leafsize=4    the builder's max_leaf: a node of more primitives is
+ *                 always split, one of at most this many becomes a leaf
+ *                 when no cut is cheaper; 1..32.
+ *   travcost=2    the SAH cost of visiting a node over that of one
+ *                 primitive test (the kit's cost_traversal), 0.1..100:
+ *                 larger makes larger leaves. 2, not the kit's 1: on the
+ *                 bunny it cut memory from 143 to 89 bytes a triangle
+ *                 (leaves of 2.8 triangles instead of 1.7, packets fuller)
+ *                 with trace times within this machine's noise.
+ *   packets=on    on: every leaf whose primitives are all triangles keeps
+ *                 them as prims/ triangle packets (prim_tri_pack: 4
+ *                 triangles' corners in SoA, 160 bytes) tested by
+ *                 prim_intersect_tris / prim_occluded_tris, which answer
+ *                 and count exactly as prim_intersect_leaf does over the
+ *                 same ids | off: every leaf through its refs.
+ *   isa=auto      box kernels: auto (the best this CPU has: avx512 if it
+ *                 has AVX-512F and VL, else avx2 with AVX2 and FMA, else
+ *                 sse42, else scalar) | scalar (the reference, plain C) |
+ *                 sse42 | avx2 | avx512. One this CPU lacks is refused at
+ *                 build with one line. auto is settled before the CSV
+ *                 writes the parameters (settle_params), so its params
+ *                 column names the kernels that ran.
+ *   memcap=4096   MiB: refuse a build whose scratch and nodes would pass it
+ *                 (checked before the binary build over its estimate, and
+ *                 before the collapse over the exact wide node count).
+ *
+ * Node sizes and memory layout: accel/bvh/wide.h (BVH4 nodes 128 bytes,
+ * 117 used; BVH8 nodes 256 bytes, 233 used; 64-byte aligned node array,
+ * then 4 bytes of primitive id per primitive in leaf order, then with
+ * packets=on 160 bytes per packet, ceil(count / 4) per all-triangle
+ * leaf). memory() is this object (about 80 bytes) plus nodes, refs and
+ * packets. Per thread: the
+ * traversal stack, 12 bytes an entry, (W - 1)(depth + 1) + 1 entries.
+ * Build scratch, freed before build() returns: primitive boxes (24 bytes
+ * each), the kit's binary tree (32 bytes a node, 2n - 1 at most) and its
+ * builder's centroids and tasks.
+ *
+ * Counters (accel.h): box_tests = child boxes tested (the used slots of
+ * every node visited; unused slots hold empty boxes that the SIMD kernels
+ * test for free and nobody counts); steps = nodes visited plus leaves
+ * tested; prim_tests and prim_hits by prims/ (one prim_*_tris or
+ * prim_*_leaf call a leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
+ * refs_per_prim, avg_children (used slots per node).
+ *
+ * Not yet (issue 13's later stages): the packet lanes tested with SIMD
+ * (prims/ tests them one after the other, with one ray set-up), spatial splits (split=sbvh), a
+ * multithreaded build, quantised nodes (compress=on), width=2. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "accel.h"
+#include "bvh_champion.h"
+#include "common/memcap.h"
+#include "../prims/checked_alloc.h"
+
+static const accel_param champ_params[] = {
+    {"width", "8", "children per node: 4 | 8"},
+    {"bins", "16", "binned SAH: bins per axis, 2..256 (Wald 2007)"},
+    {"leafsize", "4", "largest leaf the SAH builder may make, 1..32"},
+    {"travcost", "2", "SAH: cost of a node visit over one primitive test, 0.1..100 (bigger: larger leaves)"},
+    {"packets", "on", "on: leaves of triangles only tested as prims/ triangle packets (4 in SoA) | off: through refs"},
+    {"isa", "auto", "box kernels: auto (the best this CPU has) | scalar | sse42 | avx2 | avx512"},
+    {"memcap", "4096", "MiB: refuse a build whose scratch and nodes exceed it"},
+    {NULL, NULL, NULL},
+};
+
+typedef struct {
+    accel base;
+    const prims_t *p;
+    wide_bvh w;
+    wide_isa isa;
+    const wide_kernels *k;
+} champ_t;
+
+struct accel_ctx {
+    wide_entry *stack; /* wide_stack_cap(&w) entries */
+};
+
+/* ---------------------------------------------------------------- build */
+
+static void champ_destroy(accel *a)
+{
+    champ_t *t = (champ_t *)a;
+    if (!t) return;
+    wide_free(&t->w);
+    free(t);
+}
+
+/* The binary build's peak: boxes, the builder's centroids and tasks, its
+ * nodes (2n - 1) and refs, bvh_finish's depth stack. */
+static uint64_t binary_bytes(uint64_t n)
+{
+    uint64_t nodes = n ? 2 * n - 1 : 0;
+    uint64_t per_prim = sizeof(box3) + sizeof(vec3) + sizeof(uint32_t) + 3 * sizeof(uint32_t);
+    return memcap_add(memcap_mul(n + 1, per_prim), memcap_mul(nodes, sizeof(bvh_node) + 2 * sizeof(uint32_t)));
+}
+
+/* The collapse's peak: the binary tree still held, the wide nodes, and
+ * the pending triples. */
+static uint64_t collapse_bytes(const bvh_t *b, uint64_t wide_nodes, uint32_t width)
+{
+    uint64_t bin = memcap_add(memcap_mul(b->nnodes, sizeof(bvh_node) + 3 * sizeof(uint32_t)),
+                              memcap_mul(b->nrefs, sizeof(uint32_t)));
+    return memcap_add(bin, memcap_mul(wide_nodes, wide_node_bytes(width)));
+}
+
+static int parse_isa(const accel_params *params, wide_isa *isa, char *err, size_t errlen)
+{
+    static const char *const names[] = {"auto", "scalar", "sse42", "avx2", "avx512", NULL};
+    static const char *const needs[] = {"", "", "SSE4.2", "AVX2 and FMA", "AVX-512F and AVX-512VL"};
+    int choice;
+    if (params_get_choice(params, "isa", names, &choice, err, errlen)) return -1;
+    if (choice == 0) {
+        *isa = wide_isa_best();
+        return 0;
+    }
+    *isa = (wide_isa)(choice - 1);
+    if (!wide_isa_supported(*isa) || !wide_kernels_for(*isa, 8)) {
+        snprintf(err, errlen, "isa=%s: this CPU lacks %s; isa=auto picks the best it has (%s)", names[choice],
+                 needs[choice], wide_isa_names[wide_isa_best()]);
+        return -1;
+    }
+    return 0;
+}
+
+static accel *champ_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+{
+    static const char *const widths[] = {"4", "8", NULL}, *const onoff[] = {"off", "on", NULL};
+    int wsel, packets;
+    long bins, leafsize, memcap;
+    double travcost;
+    wide_isa isa;
+    if (params_get_choice(params, "width", widths, &wsel, err, errlen) ||
+        params_get_long(params, "bins", 2, 256, &bins, err, errlen) ||
+        params_get_long(params, "leafsize", 1, 32, &leafsize, err, errlen) ||
+        params_get_double(params, "travcost", 0.1, 100.0, &travcost, err, errlen) ||
+        params_get_choice(params, "packets", onoff, &packets, err, errlen) || parse_isa(params, &isa, err, errlen) ||
+        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
+        return NULL;
+    const uint32_t width = wsel ? 8 : 4;
+    const prims_t *p = &scene->prims;
+    const uint32_t n = p->count;
+    if (n > WIDE_INDEX) {
+        snprintf(err, errlen, "bvh: %u primitives, more than leaf indices reach (%u)", n, WIDE_INDEX);
+        return NULL;
+    }
+    if (memcap_exceeded(binary_bytes(n), (uint64_t)memcap, err, errlen,
+                        "bvh: the binary SAH build over %u primitives", n))
+        return NULL;
+
+    champ_t *t = calloc(1, sizeof *t);
+    box3 *boxes = malloc(((size_t)n + 1) * sizeof *boxes);
+    bvh_t bin = {0};
+    if (!t || !boxes) goto oom;
+    t->base.scene = scene;
+    t->p = p;
+    t->isa = isa;
+    t->k = wide_kernels_for(isa, width);
+
+    /* The kit's binary tree over the primitives' boxes. */
+    for (uint32_t id = 0; id < n; id++) boxes[id] = prim_bounds(p, id);
+    bvh_config cfg;
+    bvh_config_defaults(&cfg);
+    cfg.bins = (uint32_t)bins;
+    cfg.max_leaf = (uint32_t)leafsize;
+    cfg.cost_traversal = (float)travcost;
+    if (bvh_build_sah(&bin, boxes, NULL, n, &cfg)) goto oom;
+    free(boxes);
+    boxes = NULL;
+
+    /* Collapsed to width, its exact size checked first. */
+    uint32_t wide_nodes = wide_count_nodes(&bin, width);
+    if (memcap_exceeded(collapse_bytes(&bin, wide_nodes, width), (uint64_t)memcap, err, errlen,
+                        "bvh: %u BVH%u nodes over %u primitives with the binary tree they come from", wide_nodes,
+                        width, n))
+        goto fail;
+    if (wide_collapse(&t->w, &bin, width)) goto oom;
+    bvh_free(&bin);
+
+    /* The all-triangle leaves packed, their size checked first. */
+    if (packets) {
+        uint64_t npk = wide_count_packets(&t->w, p);
+        if (memcap_exceeded(memcap_add(wide_memory(&t->w), memcap_mul(npk, sizeof(prim_tri_packet))), (uint64_t)memcap,
+                            err, errlen, "bvh: %u BVH%u nodes and %llu triangle packets over %u primitives",
+                            t->w.nnodes, width, (unsigned long long)npk, n))
+            goto fail;
+        if (wide_pack_leaves(&t->w, p)) goto oom;
+    }
+    return &t->base;
+oom:
+    snprintf(err, errlen, "bvh: out of memory building over %u primitives", n);
+fail:
+    free(boxes);
+    bvh_free(&bin);
+    champ_destroy(t ? &t->base : NULL);
+    return NULL;
+}
+
+/* isa=auto as build() will resolve it on this CPU. */
+static void champ_settle_params(accel_params *params)
+{
+    for (int i = 0; i < params->count; i++)
+        if (!strcmp(params->table[i].name, "isa") && !strcmp(params->values[i], "auto"))
+            snprintf(params->values[i], sizeof params->values[i], "%s", wide_isa_names[wide_isa_best()]);
+}
+
+/* -------------------------------------------------------------- context */
+
+static accel_ctx *champ_context_new(accel *a)
+{
+    champ_t *t = (champ_t *)a;
+    uint32_t cap = wide_stack_cap(&t->w);
+    /* context_new cannot fail through the interface: out of memory is exit 2 (prims/checked_alloc.h) */
+    accel_ctx *ctx = checked_calloc(1, sizeof *ctx, "a bvh tracing context");
+    ctx->stack = checked_calloc(cap, sizeof *ctx->stack, "a bvh thread's traversal stack");
+    return ctx;
+}
+
+static void champ_context_free(accel_ctx *ctx)
+{
+    if (!ctx) return;
+    free(ctx->stack);
+    free(ctx);
+}
+
+/* ---------------------------------------------------------------- trace */
+
+static bool champ_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
+{
+    const champ_t *t = (const champ_t *)a;
+    return t->k->intersect(&t->w, t->p, ctx->stack, ray, hit, c);
+}
+
+static bool champ_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+{
+    const champ_t *t = (const champ_t *)a;
+    return t->k->occluded(&t->w, t->p, ctx->stack, ray, c);
+}
+
+static bool champ_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
+{
+    const champ_t *t = (const champ_t *)a;
+    return t->k->intersect_fast(&t->w, t->p, ctx->stack, ray, hit);
+}
+
+static bool champ_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
+{
+    const champ_t *t = (const champ_t *)a;
+    return t->k->occluded_fast(&t->w, t->p, ctx->stack, ray);
+}
+
+/* ------------------------------------------------------------ the rest */
+
+static size_t champ_memory(const accel *a)
+{
+    const champ_t *t = (const champ_t *)a;
+    return sizeof *t + wide_memory(&t->w);
+}
+
+static int champ_stats(const accel *a, accel_stat *out, int max)
+{
+    const champ_t *t = (const champ_t *)a;
+    return wide_stats(&t->w, t->p->count, out, max);
+}
+
+/* The union of the root's slots. */
+static box3 champ_bounds(const accel *a)
+{
+    const champ_t *t = (const champ_t *)a;
+    box3 b = box_empty();
+    if (!t->w.nnodes) return b;
+    const uint32_t W = t->w.width;
+    const float *rows = W == 4 ? &((const wide4_node *)t->w.nodes)->box[0][0] : &((const wide8_node *)t->w.nodes)->box[0][0];
+    for (uint32_t k = 0; k < W; k++) {
+        box3 s = {{rows[0 * W + k], rows[2 * W + k], rows[4 * W + k]}, {rows[1 * W + k], rows[3 * W + k], rows[5 * W + k]}};
+        b = box_union(b, s);
+    }
+    return b;
+}
+
+/* For tests (tests/test_champion.c): the tree and the kernels that run. */
+const wide_bvh *bvh_champion_tree(const accel *a, wide_isa *isa)
+{
+    const champ_t *t = (const champ_t *)a;
+    if (isa) *isa = t->isa;
+    return &t->w;
+}
+
+/* Every width with every instruction set this CPU has (the conformance
+ * suite cannot skip a variant that this machine refuses, so the list is
+ * made at start-up from the CPU), and the leaf and bin settings. */
+static const char *champ_variants[2 * WIDE_ISA_COUNT + 4];
+__attribute__((constructor)) static void champ_fill_variants(void)
+{
+    static const char *const all[2][WIDE_ISA_COUNT] = {
+        {"width=4,isa=scalar", "width=4,isa=sse42", "width=4,isa=avx2", "width=4,isa=avx512"},
+        {"width=8,isa=scalar", "width=8,isa=sse42", "width=8,isa=avx2", "width=8,isa=avx512"},
+    };
+    int n = 0;
+    for (int w = 0; w < 2; w++)
+        for (int i = 0; i < WIDE_ISA_COUNT; i++)
+            if (wide_isa_supported((wide_isa)i) && wide_kernels_for((wide_isa)i, 8)) champ_variants[n++] = all[w][i];
+    champ_variants[n++] = "leafsize=1,width=4";
+    champ_variants[n++] = "packets=off";
+    champ_variants[n++] = "leafsize=16,bins=4";
+    champ_variants[n] = NULL;
+}
+
+const struct accel_ops accel_bvh = {
+    .version = 2,
+    .name = "bvh",
+    .summary = "wide SIMD BVH: binned SAH tree collapsed to 4 or 8 children, nearest-first traversal, box kernels "
+               "by run-time ISA dispatch (scalar, SSE4.2, AVX2, AVX-512)",
+    .paper = "MacDonald & Booth 1990; Wald, IEEE RT 2007; Dammertz et al., EGSR 2008; Ernst & Greiner, IEEE RT 2008; "
+             "Wald, Benthin, Boulos, IEEE RT 2008",
+    .params = champ_params,
+    .flags = 0,
+    .build = champ_build,
+    .context_new = champ_context_new,
+    .context_free = champ_context_free,
+    .intersect = champ_intersect,
+    .occluded = champ_occluded,
+    .memory = champ_memory,
+    .destroy = champ_destroy,
+    .stats = champ_stats,
+    .reset = NULL,
+    .bounds = champ_bounds,
+    .intersect_fast = champ_intersect_fast,
+    .occluded_fast = champ_occluded_fast,
+    .variants = champ_variants,
+    .settle_params = champ_settle_params,
+};

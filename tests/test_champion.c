@@ -1,0 +1,374 @@
+/* test_champion: the wide SIMD BVH `bvh` (accel/bvh_champion.c,
+ * accel/bvh/wide*.{h,c}, collapse.c) beyond the conformance suite.
+ *
+ *   simd        every instruction set this CPU has, at width 4 and 8,
+ *               against the scalar reference traversal of the same tree:
+ *               ray for ray on every workload of spd:balls:2, spd:tree:2,
+ *               bunny and gen:room, bit-identical hits (t, u, v, prim) or
+ *               occlusion and identical counters, and the same on
+ *               axis-aligned rays with +0 and -0 components from a lattice
+ *               over the scene's box (origins in box planes); the counting-free
+ *               methods give the same answers; an ISA the CPU lacks is
+ *               skipped here by an explicit check (and refused by build);
+ *               packets=off (leaves through refs) the same as packets=on
+ *   tree        wide_check on every tree built here: slots contain their
+ *               children, unused slots empty, each primitive in one leaf,
+ *               the counts and statistics right; avg_children within 2..W
+ *   leafsize=1  the same answers check with one primitive a leaf
+ *   single      one triangle, one sphere: a root with one leaf child
+ *   one point   2000 spheres with one centre and radius and 2000
+ *               triangles collapsed to one point: the builder splits by
+ *               count, the tree stays shallow, answers match exhaustive
+ *   memcap      10^6 triangles: refused with one line naming memcap under
+ *               a small cap, built under the default, answers matching
+ *               the scalar traversal on a sample of rays
+ *   refusals    width=5, isa=neon, leafsize=0, bins=1; an ISA the CPU lacks
+ *   settle      isa=auto settles to the ISA build() picks */
+#include <string.h>
+#include "accel/bvh_champion.h"
+#include "testlib.h"
+
+static accel *champ_with(const scene_t *s, const char *cfg)
+{
+    char err[512];
+    accel *a = test_build_with(accel_find("bvh"), s, cfg, 1, err, sizeof err);
+    if (!a) {
+        fprintf(stderr, "bvh [%s] on %s: %s\n", cfg, s->name, err);
+        exit(2);
+    }
+    return a;
+}
+
+static void check_tree(const accel *a, const char *label)
+{
+    const wide_bvh *w = bvh_champion_tree(a, NULL);
+    const prims_t *p = &a->scene->prims;
+    char err[256] = "";
+    int rc = wide_check(w, p->bounds, p->count, err, sizeof err);
+    CHECK_MSG(rc == 0, "%s on %s: %s", label, a->scene->name, err);
+    if (w->nnodes) {
+        double avg = (double)w->nchildren / w->nnodes;
+        CHECK_MSG(avg >= 1.0 && avg <= w->width, "%s: avg_children %g", label, avg);
+        CHECK_MSG(w->nnodes == 1 || avg >= 2.0, "%s: avg_children %g below 2", label, avg);
+    }
+    accel_stat st[ACCEL_STATS_MAX];
+    int n = accel_stats(a, st, ACCEL_STATS_MAX);
+    CHECK_MSG(n == 6, "%s: %d statistics", label, n);
+}
+
+static bool same_hit(const hit_t *x, const hit_t *y)
+{
+    return x->prim == y->prim && memcmp(&x->t, &y->t, sizeof x->t) == 0 && memcmp(&x->u, &y->u, sizeof x->u) == 0 &&
+           memcmp(&x->v, &y->v, sizeof x->v) == 0;
+}
+
+static bool same_counters(const counters_t *x, const counters_t *y) { return memcmp(x, y, sizeof *x) == 0; }
+
+/* Every traceable ray of rs through a and ref one at a time: the same
+ * answer bit for bit and the same counters, and a's fast methods the same
+ * answer. At most 3 failures printed per set. Returns the rays compared. */
+static uint32_t compare_ray_array(accel *ref, accel *a, const ray_t *rays, uint32_t count, bool any, const char *label,
+                                  const char *wl)
+{
+    accel_ctx *cr = ref->ops->context_new(ref), *ca = a->ops->context_new(a);
+    uint32_t compared = 0, printed = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        const ray_t *ray = &rays[i];
+        if (!ray_traceable(ray)) continue;
+        compared++;
+        counters_t c1 = {0}, c2 = {0};
+        bool ok;
+        if (any) {
+            bool o1 = ref->ops->occluded(ref, cr, ray, &c1), o2 = a->ops->occluded(a, ca, ray, &c2);
+            bool o3 = a->ops->occluded_fast(a, ca, ray);
+            ok = o1 == o2 && o2 == o3 && same_counters(&c1, &c2);
+        } else {
+            hit_t h1 = hit_none(ray), h2 = hit_none(ray), h3 = hit_none(ray);
+            bool r1 = ref->ops->intersect(ref, cr, ray, &h1, &c1), r2 = a->ops->intersect(a, ca, ray, &h2, &c2);
+            bool r3 = a->ops->intersect_fast(a, ca, ray, &h3);
+            ok = r1 == r2 && r2 == r3 && same_hit(&h1, &h2) && same_hit(&h2, &h3) && same_counters(&c1, &c2);
+        }
+        if (!ok && printed++ < 3)
+            fprintf(stderr, "%s on %s %s: ray %u differs from the scalar reference (answer or counters)\n", label,
+                    a->scene->name, wl, i);
+        CHECK(ok || printed > 3);
+    }
+    a->ops->context_free(ca);
+    ref->ops->context_free(cr);
+    return compared;
+}
+
+static uint32_t compare_rays(accel *ref, accel *a, const rayset_t *rs, const char *label, const char *wl)
+{
+    return compare_ray_array(ref, a, rs->rays, rs->count, rs->query == QUERY_ANY, label, wl);
+}
+
+/* Axis-aligned rays whose other direction components are +0 or -0, from
+ * a lattice over the scene's box that includes its faces and centre
+ * planes (so origins lie in planes of child boxes), both ways along each
+ * axis: reciprocals of +-inf, plane distances of 0 * inf = NaN. */
+static ray_t *axis_rays(const scene_t *s, uint32_t *count)
+{
+    const int n = 9;
+    ray_t *rays = malloc(sizeof *rays * 3 * 2 * 4 * n * n);
+    uint32_t k = 0;
+    box3 b = s->prims.box;
+    float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+    for (int ax = 0; ax < 3; ax++)
+        for (int sign = 0; sign < 2; sign++)
+            for (int zeros = 0; zeros < 4; zeros++)
+                for (int i = 0; i < n; i++)
+                    for (int j = 0; j < n; j++) {
+                        int u = (ax + 1) % 3, v = (ax + 2) % 3;
+                        float o[3], d[3];
+                        o[ax] = sign ? hi[ax] + 1.0f : lo[ax] - 1.0f;
+                        o[u] = lo[u] + (hi[u] - lo[u]) * (float)i / (float)(n - 1);
+                        o[v] = lo[v] + (hi[v] - lo[v]) * (float)j / (float)(n - 1);
+                        d[ax] = sign ? -1.0f : 1.0f;
+                        d[u] = (zeros & 1) ? -0.0f : 0.0f;
+                        d[v] = (zeros & 2) ? -0.0f : 0.0f;
+                        rays[k++] = (ray_t){v3(o[0], o[1], o[2]), 0.0f, v3(d[0], d[1], d[2]), INFINITY, RAY_NO_LIGHT, 0};
+                    }
+    *count = k;
+    return rays;
+}
+
+/* Every ISA this CPU has at width W against scalar, on every workload. */
+static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char *extra)
+{
+    workload_opts o = test_wl(res, res, 2);
+    rayset_t *sets[16];
+    int nsets = 0;
+    for (int w = 0; workload_table[w].name && nsets < 16; w++) sets[nsets++] = workload_table[w].make(s, embree, &o);
+    uint32_t naxis;
+    ray_t *axis = axis_rays(s, &naxis);
+    for (int width = 4; width <= 8; width += 4) {
+        char cfg[128];
+        snprintf(cfg, sizeof cfg, "width=%d,isa=scalar%s", width, extra);
+        accel *ref = champ_with(s, cfg);
+        check_tree(ref, cfg);
+        for (int isa = WIDE_ISA_SSE42; isa < WIDE_ISA_COUNT; isa++) {
+            if (!wide_isa_supported((wide_isa)isa)) {
+                printf("%-12s width=%d isa=%-7s skipped: this CPU lacks it\n", s->name, width, wide_isa_names[isa]);
+                continue;
+            }
+            snprintf(cfg, sizeof cfg, "width=%d,isa=%s%s", width, wide_isa_names[isa], extra);
+            accel *a = champ_with(s, cfg);
+            wide_isa got;
+            bvh_champion_tree(a, &got);
+            CHECK_MSG(got == (wide_isa)isa, "%s: kernels of %s", cfg, wide_isa_names[got]);
+            int before = check_failed;
+            uint64_t rays = 0;
+            for (int k = 0; k < nsets; k++) rays += compare_rays(ref, a, sets[k], cfg, workload_table[k].name);
+            rays += compare_ray_array(ref, a, axis, naxis, false, cfg, "axis rays, closest") +
+                    compare_ray_array(ref, a, axis, naxis, true, cfg, "axis rays, any");
+            printf("%-12s %-40s %8llu rays over %d workloads and axis rays %s\n", s->name, cfg, (unsigned long long)rays, nsets,
+                   check_failed == before ? "bit-identical to scalar" : "DIFFER");
+            a->ops->destroy(a);
+        }
+        /* Leaves through refs instead of packets: the same answers and counters. */
+        snprintf(cfg, sizeof cfg, "width=%d,isa=scalar,packets=off%s", width, extra);
+        accel *a = champ_with(s, cfg);
+        check_tree(a, cfg);
+        int before = check_failed;
+        for (int k = 0; k < nsets; k++) compare_rays(ref, a, sets[k], cfg, workload_table[k].name);
+        printf("%-12s %-40s %s\n", s->name, cfg, check_failed == before ? "bit-identical to packets=on" : "DIFFER");
+        a->ops->destroy(a);
+        ref->ops->destroy(ref);
+    }
+    for (int k = 0; k < nsets; k++) rayset_free(sets[k]);
+    free(axis);
+}
+
+static void test_simd(void)
+{
+    static const char *const names[] = {"spd:balls:2", "spd:tree:2", "bunny", "gen:room"};
+    for (int i = 0; i < 4; i++) {
+        scene_t *s = test_scene(names[i]);
+        accel *embree = test_build("embree", s, 2);
+        simd_vs_scalar(s, embree, 48, "");
+        if (i == 2) simd_vs_scalar(s, embree, 32, ",leafsize=1"); /* leafsize=1 on the bunny */
+        embree->ops->destroy(embree);
+        scene_free(s);
+    }
+}
+
+static scene_t *finished(scene_t *s)
+{
+    char err[256];
+    if (scene_finish(s, false, err, sizeof err)) {
+        fprintf(stderr, "%s: %s\n", s->name, err);
+        exit(2);
+    }
+    return s;
+}
+
+/* Answers of bvh [cfg] against exhaustive on every workload: the same
+ * hits bit for bit, or (same_prim false: coincident primitives, where
+ * which of equal t is kept depends on the order they are tested in) the
+ * same distances. */
+static void against_exhaustive(scene_t *s, const char *cfg, int res, bool same_prim)
+{
+    accel *ex = test_build("exhaustive", s, 1), *a = champ_with(s, cfg);
+    check_tree(a, cfg);
+    workload_opts o = test_wl(res, res, 1);
+    for (int w = 0; workload_table[w].name; w++) {
+        rayset_t *rs = workload_table[w].make(s, ex, &o);
+        answers_t *want = test_trace(ex, rs, 1), *got = test_trace(a, rs, 1);
+        uint32_t diff = 0;
+        for (uint32_t i = 0; i < rs->count; i++)
+            diff += rs->query == QUERY_ANY ? want->occluded[i] != got->occluded[i]
+                   : same_prim ? !same_hit(&want->hits[i], &got->hits[i])
+                               : (want->hits[i].prim == HIT_NONE) != (got->hits[i].prim == HIT_NONE) ||
+                                     memcmp(&want->hits[i].t, &got->hits[i].t, sizeof(float)) != 0;
+        CHECK_MSG(diff == 0, "%s [%s] %s: %u of %u rays differ from exhaustive", s->name, cfg, workload_table[w].name,
+                  diff, rs->count);
+        answers_free(want);
+        answers_free(got);
+        rayset_free(rs);
+    }
+    a->ops->destroy(a);
+    ex->ops->destroy(ex);
+}
+
+static void test_single(void)
+{
+    scene_t *s = scene_new("one triangle");
+    uint32_t a = prims_add_vertex(&s->prims, v3(0, 0, 0)), b = prims_add_vertex(&s->prims, v3(1, 0, 0)),
+             c = prims_add_vertex(&s->prims, v3(0, 1, 0));
+    prims_add_triangle(&s->prims, a, b, c);
+    finished(s);
+    for (int w = 4; w <= 8; w += 4) {
+        char cfg[64];
+        snprintf(cfg, sizeof cfg, "width=%d", w);
+        accel *x = champ_with(s, cfg);
+        const wide_bvh *t = bvh_champion_tree(x, NULL);
+        CHECK(t->nnodes == 1 && t->nleaves == 1 && t->nchildren == 1 && t->max_depth == 1);
+        accel_ctx *ctx = x->ops->context_new(x);
+        ray_t r = {v3(0.25f, 0.25f, 1), 0, v3(0, 0, -1), INFINITY, RAY_NO_LIGHT, 0};
+        hit_t h = hit_none(&r);
+        counters_t cnt = {0};
+        CHECK(x->ops->intersect(x, ctx, &r, &h, &cnt) && h.prim == 0 && h.t == 1.0f);
+        CHECK(cnt.box_tests == 1 && cnt.steps == 2 && cnt.prim_tests == 1);
+        r.dir = v3(0, 0, 1);
+        CHECK(!x->ops->occluded(x, ctx, &r, &cnt));
+        x->ops->context_free(ctx);
+        x->ops->destroy(x);
+    }
+    against_exhaustive(s, "", 16, true);
+    scene_free(s);
+
+    s = scene_new("one sphere");
+    prims_add_sphere(&s->prims, v3(0, 0, 0), 1.0f);
+    finished(s);
+    against_exhaustive(s, "width=4", 16, true);
+    against_exhaustive(s, "width=8,isa=scalar", 16, true);
+    scene_free(s);
+}
+
+static void test_one_point(void)
+{
+    scene_t *s = scene_new("one point");
+    for (int i = 0; i < 2000; i++) prims_add_sphere(&s->prims, v3(1, 2, 3), 0.5f);
+    uint32_t v = prims_add_vertex(&s->prims, v3(1, 2, 3));
+    for (int i = 0; i < 2000; i++) prims_add_triangle(&s->prims, v, v, v);
+    finished(s);
+    const char *cfgs[] = {"", "width=4,leafsize=1", "leafsize=32,bins=2"};
+    for (int k = 0; k < 3; k++) {
+        accel *a = champ_with(s, cfgs[k]);
+        const wide_bvh *t = bvh_champion_tree(a, NULL);
+        CHECK_MSG(t->max_depth <= 16, "[%s] depth %u over 4000 primitives at one point", cfgs[k], t->max_depth);
+        a->ops->destroy(a);
+        against_exhaustive(s, cfgs[k], 12, false);
+    }
+    scene_free(s);
+}
+
+/* A 1000 x 500 height field: 10^6 triangles. */
+static scene_t *million(void)
+{
+    scene_t *s = scene_new("million");
+    const int nx = 1000, ny = 500;
+    for (int j = 0; j <= ny; j++)
+        for (int i = 0; i <= nx; i++)
+            prims_add_vertex(&s->prims, v3((float)i, (float)j, 3.0f * sinf(0.05f * (float)i) * cosf(0.07f * (float)j)));
+    for (int j = 0; j < ny; j++)
+        for (int i = 0; i < nx; i++) {
+            uint32_t a = (uint32_t)(j * (nx + 1) + i), b = a + 1, c = a + (uint32_t)nx + 1, d = c + 1;
+            prims_add_triangle(&s->prims, a, b, d);
+            prims_add_triangle(&s->prims, a, d, c);
+        }
+    return finished(s);
+}
+
+static void test_memcap(void)
+{
+    scene_t *s = million();
+    CHECK(s->prims.count == 1000000);
+    char err[512] = "";
+    accel *a = test_build_with(accel_find("bvh"), s, "memcap=64", 1, err, sizeof err);
+    CHECK_MSG(!a && strstr(err, "memcap=64") && !strchr(err, '\n'), "memcap=64 over 10^6 triangles: %s", a ? "built" : err);
+    printf("million      memcap=64 refused: %s\n", err);
+    if (a) a->ops->destroy(a);
+    accel *ref = champ_with(s, "isa=scalar"), *best = champ_with(s, "");
+    check_tree(best, "million");
+    size_t mem = best->ops->memory(best);
+    printf("million      built: %zu bytes (%.1f per triangle)\n", mem, (double)mem / s->prims.count);
+    CHECK(mem < 128u * s->prims.count); /* 256-byte nodes over leaves of about 2 triangles: some 70 */
+    workload_opts o = test_wl(64, 64, 1);
+    accel *embree = test_build("embree", s, 1);
+    for (int w = 0; workload_table[w].name; w++) {
+        rayset_t *rs = workload_table[w].make(s, embree, &o);
+        compare_rays(ref, best, rs, "million", workload_table[w].name);
+        rayset_free(rs);
+    }
+    embree->ops->destroy(embree);
+    best->ops->destroy(best);
+    ref->ops->destroy(ref);
+    scene_free(s);
+}
+
+static void test_refusals(void)
+{
+    scene_t *s = test_scene("spd:balls:1");
+    const char *bad[] = {"width=5", "isa=neon", "leafsize=0", "leafsize=33", "bins=1", "memcap=0"};
+    const char *key[] = {"width", "isa", "leafsize", "leafsize", "bins", "memcap"};
+    for (int i = 0; i < 6; i++) {
+        char err[512] = "";
+        accel *a = test_build_with(accel_find("bvh"), s, bad[i], 1, err, sizeof err);
+        CHECK_MSG(!a && strstr(err, key[i]), "%s: %s", bad[i], a ? "built" : err);
+        if (a) a->ops->destroy(a);
+    }
+    for (int isa = 0; isa < WIDE_ISA_COUNT; isa++) {
+        char cfg[64], err[512] = "";
+        snprintf(cfg, sizeof cfg, "isa=%s", wide_isa_names[isa]);
+        accel *a = test_build_with(accel_find("bvh"), s, cfg, 1, err, sizeof err);
+        if (wide_isa_supported((wide_isa)isa)) CHECK_MSG(a != NULL, "%s: %s", cfg, err);
+        else CHECK_MSG(!a && strstr(err, "lacks") && !strchr(err, '\n'), "%s refused: %s", cfg, err);
+        if (!a) printf("refused as it should: %s\n", err);
+        if (a) a->ops->destroy(a);
+    }
+    /* isa=auto settles to the best ISA, which build() then runs. */
+    accel_params p;
+    params_defaults(&p, accel_find("bvh")->params);
+    accel_settle_params(accel_find("bvh"), &p);
+    CHECK(!strcmp(params_get(&p, "isa"), wide_isa_names[wide_isa_best()]));
+    accel *a = champ_with(s, "");
+    wide_isa got;
+    bvh_champion_tree(a, &got);
+    CHECK(got == wide_isa_best());
+    a->ops->destroy(a);
+    printf("isa=auto settles to %s\n", params_get(&p, "isa"));
+    scene_free(s);
+}
+
+int main(void)
+{
+    setvbuf(stdout, NULL, _IOLBF, 0);
+    test_refusals();
+    test_single();
+    test_one_point();
+    test_simd();
+    test_memcap();
+    return check_report();
+}
