@@ -16,7 +16,8 @@ static void one(const void *bytes, size_t size)
     rayset_t *rs = rayset_from_memory(bytes, size, "fuzz.rays", err, sizeof err);
     if (!rs) return;
     const scene_t *s = fuzz_scene();
-    if (rayset_check_lights(rs, "fuzz.rays", s->name, s->nlights, err, sizeof err) == 0) {
+    if (rayset_check_lights(rs, "fuzz.rays", s->name, s->nlights, err, sizeof err) == 0 &&
+        rayset_check_origins(rs, "fuzz.rays", s->name, s->prims.count, err, sizeof err) == 0) {
         int n;
         rayset_t *const *own = fuzz_scene_rays(&n);
         rayset_t *sets[17];

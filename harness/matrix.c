@@ -127,7 +127,8 @@ static int cell_prepare(const options *o, const scene_t *s, accel *ref, verifier
         rs = w->make(s, ref, &o->wl);
     }
     if (o->rays_file) {
-        if (rayset_check_lights(rs, o->rays_file, s->name, s->nlights, err, sizeof err)) {
+        if (rayset_check_lights(rs, o->rays_file, s->name, s->nlights, err, sizeof err) ||
+            rayset_check_origins(rs, o->rays_file, s->name, s->prims.count, err, sizeof err)) {
             fprintf(stderr, "accelbench: %s\n", err);
             rayset_free(rs);
             return -1;

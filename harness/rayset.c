@@ -9,9 +9,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Version 2: the stored hash covers the whole file (version 1's covered the
- * rays, the query and the count only). */
-static const char MAGIC[8] = {'A', 'B', 'R', 'A', 'Y', 'S', '2', '\n'};
+/* Version 3: rays carry their origin primitive (ray_t.origin). Version 2
+ * had 0 in that field on every ray, which would read as "leaves primitive
+ * 0", so its files are refused rather than misread. Version 2 made the
+ * stored hash cover the whole file (version 1's covered the rays, the query
+ * and the count only). */
+static const char MAGIC[8] = {'A', 'B', 'R', 'A', 'Y', 'S', '3', '\n'};
+static const char MAGIC_V2[8] = {'A', 'B', 'R', 'A', 'Y', 'S', '2', '\n'};
 static const char MAGIC_V1[8] = {'A', 'B', 'R', 'A', 'Y', 'S', '1', '\n'};
 
 typedef struct {
@@ -176,6 +180,9 @@ rayset_t *rayset_from_memory(const void *data, size_t size, const char *path, ch
     if (size < sizeof h || memcmp(data, MAGIC, sizeof MAGIC) != 0) {
         if (size >= sizeof MAGIC_V1 && memcmp(data, MAGIC_V1, sizeof MAGIC_V1) == 0)
             snprintf(err, errlen, "%s: a ray file of an older format (ABRAYS1, header not hashed): save it again", path);
+        else if (size >= sizeof MAGIC_V2 && memcmp(data, MAGIC_V2, sizeof MAGIC_V2) == 0)
+            snprintf(err, errlen, "%s: a ray file of an older format (ABRAYS2, rays without their origin primitive): save it again",
+                     path);
         else
             snprintf(err, errlen, "%s: not an accelbench ray file (bad header)", path);
         return NULL;
@@ -270,6 +277,20 @@ int rayset_check_lights(const rayset_t *rs, const char *path, const char *scene,
         if (l != RAY_NO_LIGHT && l >= nlights) {
             snprintf(err, errlen, "%s: ray %u goes to light %u, but scene '%s' has %u light%s", path, i, l, scene,
                      nlights, nlights == 1 ? "" : "s");
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int rayset_check_origins(const rayset_t *rs, const char *path, const char *scene, uint32_t nprims, char *err,
+                         size_t errlen)
+{
+    for (uint32_t i = 0; i < rs->count; i++) {
+        uint32_t o = rs->rays[i].origin;
+        if (o != RAY_NO_ORIGIN && o >= nprims) {
+            snprintf(err, errlen, "%s: ray %u leaves primitive %u, but scene '%s' has %u primitive%s", path, i, o, scene,
+                     nprims, nprims == 1 ? "" : "s");
             return -1;
         }
     }

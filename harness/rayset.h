@@ -6,15 +6,18 @@
  * ray belongs to (for per-pixel cost heat maps).
  *
  * File format (little-endian, written and read by this machine's ABI):
- *   char magic[8] = "ABRAYS2\n"; uint32 query; uint32 count;
+ *   char magic[8] = "ABRAYS3\n"; uint32 query; uint32 count;
  *   uint32 width, height, spp; uint32 has_pixels; uint64 seed; uint64 hash;
  *   char workload[32]; char scene[256];
  *   ray_t rays[count]          (40 bytes each, see prims/ray.h)
  *   uint32 pixel[count]        (when has_pixels)
  * hash is FNV-1a 64 over every byte of the file, the header's with hash
  * zero: no field changes unnoticed (version 1, "ABRAYS1", hashed the rays
- * only; such files are refused with a word to save them again). It is not
- * the set's rayset_hash(), which identifies the rays in the CSV.
+ * only; such files are refused with a word to save them again). Version 3
+ * ("ABRAYS3") gave each ray its origin primitive (ray_t.origin, in the
+ * bytes version 2 kept 0 in): a version 2 file would read as "every ray
+ * leaves primitive 0", so it is refused likewise. It is not the set's
+ * rayset_hash(), which identifies the rays in the CSV (and covers origin).
  */
 #ifndef ACCELBENCH_RAYSET_H
 #define ACCELBENCH_RAYSET_H
@@ -68,5 +71,11 @@ void rayset_file_rehash(void *data, size_t size);
  * 0, or -1 with "PATH: ray I goes to light L, but scene 'S' has N lights". */
 int rayset_check_lights(const rayset_t *rs, const char *path, const char *scene, uint32_t nlights, char *err,
                         size_t errlen);
+
+/* The origin primitive of every ray against the scene (nprims primitives):
+ * RAY_NO_ORIGIN or below nprims. Returns 0, or -1 with "PATH: ray I leaves
+ * primitive P, but scene 'S' has N primitives". */
+int rayset_check_origins(const rayset_t *rs, const char *path, const char *scene, uint32_t nprims, char *err,
+                         size_t errlen);
 
 #endif

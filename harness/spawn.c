@@ -9,6 +9,7 @@ spawn_t spawn_at(const scene_t *s, const ray_t *r, const hit_t *h)
     surface_point sp = prim_surface_point(&s->prims, r, h);
     f.m = &s->materials[s->prim_material ? s->prim_material[h->prim] : 0];
     f.dir = r->dir;
+    f.prim = h->prim;
     f.entering = v3_dot(sp.normal, f.dir) < 0.0f;
     f.n = f.entering ? sp.normal : v3_scale(sp.normal, -1.0f);
     vec3 ns = scene_shading_normal(s, h->prim, &sp);
@@ -25,7 +26,7 @@ bool spawn_shadow(const scene_t *s, const spawn_t *f, uint32_t l, ray_t *out)
     float dist = v3_len(to);
     /* SPD rule 10: no shadow ray from a surface facing away from the light. */
     if (!(dist > 0.0f) || v3_dot(to, f->n) <= 0.0f) return false;
-    *out = (ray_t){f->org_out, 0.0f, v3_scale(to, 1.0f / dist), dist, l, 0};
+    *out = (ray_t){f->org_out, 0.0f, v3_scale(to, 1.0f / dist), dist, l, f->prim};
     return true;
 }
 
@@ -36,7 +37,7 @@ ray_t spawn_reflect(const spawn_t *f)
     vec3 d = reflect(f->dir, f->ns);
     /* A shading normal far from the geometric one can mirror into the surface. */
     if (v3_dot(d, f->n) <= 0.0f) d = reflect(f->dir, f->n);
-    return (ray_t){f->org_out, 0.0f, v3_norm(d), INFINITY, RAY_NO_LIGHT, 0};
+    return (ray_t){f->org_out, 0.0f, v3_norm(d), INFINITY, RAY_NO_LIGHT, f->prim};
 }
 
 /* Snell's law about unit normal n facing the incoming unit direction d,
@@ -58,6 +59,6 @@ bool spawn_refract(const spawn_t *f, ray_t *out)
     if (!refract(d, f->ns, eta, &t)) return false;
     /* Through the shading normal the ray may stay on the incoming side: the geometric one then. */
     if (v3_dot(t, f->n) >= 0.0f && (!refract(d, f->n, eta, &t) || v3_dot(t, f->n) >= 0.0f)) return false;
-    *out = (ray_t){f->org_in, 0.0f, v3_norm(t), INFINITY, RAY_NO_LIGHT, 0};
+    *out = (ray_t){f->org_in, 0.0f, v3_norm(t), INFINITY, RAY_NO_LIGHT, f->prim};
     return true;
 }

@@ -28,6 +28,7 @@ typedef struct {
     bool entering;   /* the ray enters the primitive (against its outward normal) */
     vec3 org_out;    /* origin for rays leaving on the incoming side */
     vec3 org_in;     /* origin for rays going through the surface */
+    uint32_t prim;   /* the hit primitive: every spawned ray's `origin` */
 } spawn_t;
 
 /* The frame of hit h (a hit, h->prim != HIT_NONE) of ray r. */

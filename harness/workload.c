@@ -44,7 +44,7 @@ static eye_t eye_setup(const camera_t *cam, int width, int height)
 static ray_t eye_ray(const eye_t *e, float px, float py, float hither)
 {
     vec3 d = v3_add(e->forward, v3_add(v3_scale(e->right, px - e->x0), v3_scale(e->up, py - e->y0)));
-    ray_t r = {e->from, hither, v3_norm(d), INFINITY, RAY_NO_LIGHT, 0};
+    ray_t r = {e->from, hither, v3_norm(d), INFINITY, RAY_NO_LIGHT, RAY_NO_ORIGIN};
     return r;
 }
 
@@ -191,7 +191,7 @@ static rayset_t *make_diffuse(const scene_t *s, accel *ref, const workload_opts 
         if (a->hits[i].prim == HIT_NONE) continue;
         spawn_t f = spawn_at(s, &prim->rays[i], &a->hits[i]);
         vec3 d = cosine_dir(f.n, rng_float(o->seed, STREAM_DIFFUSE, i, 0), rng_float(o->seed, STREAM_DIFFUSE, i, 1));
-        ray_t r = {f.org_out, 0.0f, d, INFINITY, RAY_NO_LIGHT, 0};
+        ray_t r = {f.org_out, 0.0f, d, INFINITY, RAY_NO_LIGHT, f.prim};
         rayset_push(rs, &r, prim->pixel[i]);
     }
     answers_free(a);
@@ -232,7 +232,7 @@ rayset_t *workload_random(const scene_t *s, const workload_opts *o, char *err, s
             return NULL;
         }
         redraws = 0;
-        ray_t r = {p0, 0.0f, v3_scale(d, 1.0f / len), len, RAY_NO_LIGHT, 0};
+        ray_t r = {p0, 0.0f, v3_scale(d, 1.0f / len), len, RAY_NO_LIGHT, RAY_NO_ORIGIN};
         rayset_push(rs, &r, 0);
         i++;
     }

@@ -17,6 +17,7 @@ extern "C" {
 #endif
 
 #define RAY_NO_LIGHT UINT32_MAX
+#define RAY_NO_ORIGIN UINT32_MAX
 #define HIT_NONE UINT32_MAX
 
 typedef struct {
@@ -25,7 +26,13 @@ typedef struct {
     vec3 dir;
     float tfar;
     uint32_t light; /* shadow rays: index of the scene light the ray goes to; else RAY_NO_LIGHT */
-    uint32_t pad;   /* keeps the struct 40 bytes and the ray file layout fixed */
+    /* Secondary rays (shadow, reflection, refraction, diffuse, whitted's):
+     * the primitive whose hit spawned the ray, which the origin lies on (up
+     * to the robust offset); eye rays, random rays and anything without a
+     * known origin: RAY_NO_ORIGIN. A hint only: the ray coherence
+     * accelerator (raycoh) uses it after checking the origin is near that
+     * primitive; every other accelerator ignores it. */
+    uint32_t origin;
 } ray_t;
 static_assert(sizeof(ray_t) == 40, "ray_t is 40 bytes; the ray file format depends on it");
 

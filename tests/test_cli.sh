@@ -276,6 +276,19 @@ struct.pack_into('<Q', b, 40, h)
 open(sys.argv[2], 'wb').write(b)
 PY
 expect 2 "$T/huge.rays: ray 0 has an origin or direction component beyond 2\^60" -- "$AB" verify --scenes spd:balls:1 --rays "$T/huge.rays" --accels embree
+# a ray file whose ray 0 leaves a primitive the scene does not have (ray_t.origin, bytes 36..39 of a ray): refused naming it
+"$AB" verify --scenes spd:balls:1 --workloads reflection --res 4x4 --accels exhaustive --save-rays "$T/f.rays" > /dev/null 2>&1
+/usr/bin/python3 - "$T/f.rays" "$T/origin.rays" <<'PY'
+import struct, sys
+b = bytearray(open(sys.argv[1], 'rb').read())
+struct.pack_into('<I', b, 336 + 36, 1000000)  # ray 0's origin primitive
+struct.pack_into('<Q', b, 40, 0)
+h = 0xcbf29ce484222325
+for c in b: h = ((h ^ c) * 0x100000001b3) & 0xffffffffffffffff
+struct.pack_into('<Q', b, 40, h)
+open(sys.argv[2], 'wb').write(b)
+PY
+expect 2 "$T/origin.rays: ray 0 leaves primitive 1000000, but scene 'spd:balls:1' has 11 primitives" -- "$AB" verify --scenes spd:balls:1 --rays "$T/origin.rays" --accels raycoh
 # the random workload on a scene whose box is a point redrew zero-length segments forever; now bounded
 printf 'v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n' > "$T/point.obj"
 expect 2 "random workload: scene '$T/point.obj' has no box to draw segments in" -- timeout 60 "$AB" verify --scenes "$T/point.obj" --workloads random --res 8x8 --accels exhaustive

@@ -7,7 +7,8 @@
  *    on those), a negative tnear;
  *  - a header no writer of this version makes: an unknown workload or a
  *    query not its own, no rays, a pixel outside the image;
- *  - and rayset_check_lights: a light index the scene does not have. */
+ *  - and rayset_check_lights and rayset_check_origins: a light index or an
+ *    origin primitive the scene does not have. */
 #include <string.h>
 #include <unistd.h>
 #include "testlib.h"
@@ -59,6 +60,8 @@ static void test_header(const rayset_t *prim)
     memcpy(b, "ABRAYS1\n", 8);
     expect_refused(b, n, "older format (ABRAYS1");
     memcpy(b, "ABRAYS2\n", 8);
+    expect_refused(b, n, "older format (ABRAYS2, rays without their origin primitive)");
+    memcpy(b, "ABRAYS3\n", 8);
     /* Past the hash (restamped): what no writer makes. */
     struct { size_t off; uint32_t value; const char *want; } bad[] = {
         {OFF_QUERY, QUERY_ANY, "workload 'primary' with query 1"},
@@ -133,6 +136,16 @@ static void test_lights(const scene_t *s, accel *ref)
     snprintf(want, sizeof want, "x.rays: ray %u goes to light %u, but scene 'spd:balls:1' has %u lights", sh->count - 1,
              s->nlights, s->nlights);
     CHECK_MSG(strstr(err, want), "want '%s', got '%s'", want, err);
+    /* Shadow rays leave the reference's hit primitive: in range, and one out of range is refused by name. */
+    CHECK_MSG(rayset_check_origins(sh, "x.rays", s->name, s->prims.count, err, sizeof err) == 0, "%s", err);
+    CHECK(sh->rays[0].origin < s->prims.count);
+    sh->rays[0].origin = s->prims.count;
+    CHECK(rayset_check_origins(sh, "x.rays", s->name, s->prims.count, err, sizeof err) != 0);
+    snprintf(want, sizeof want, "x.rays: ray 0 leaves primitive %u, but scene 'spd:balls:1' has %u primitives",
+             s->prims.count, s->prims.count);
+    CHECK_MSG(strstr(err, want), "want '%s', got '%s'", want, err);
+    sh->rays[0].origin = RAY_NO_ORIGIN;
+    CHECK(rayset_check_origins(sh, "x.rays", s->name, s->prims.count, err, sizeof err) == 0);
     rayset_free(sh);
 }
 

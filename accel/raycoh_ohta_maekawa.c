@@ -1,0 +1,761 @@
+/* raycoh_ohta_maekawa.c: Ohta and Maekawa's ray coherence algorithm.
+ *
+ * M. Ohta, M. Maekawa, "Ray Coherence Theorem and Constant Time Ray
+ * Tracing Algorithm", Computer Graphics 1987 (Proc. CG International '87),
+ * Springer, 303-314; as the survey (Arvo & Kirk 1989) describes it in
+ * s6.3, figures 20-21, with s6.1's direction cube (figure 19,
+ * accel/common/dircube.h) and s6.5's comparison.
+ *
+ * The theorem (figure 20). Every segment from a point of sphere S1 (centre
+ * O1, radius r1) to a point of sphere S2 (O2, r2), with D = |O2 - O1| >
+ * r1 + r2, makes an angle theta with O2 - O1 of
+ *     sin(theta) <= (r1 + r2) / D,  i.e.  cos(theta) >= sqrt(1 - ((r1 + r2) / D)^2):
+ * the segment's direction q - p lies in the Minkowski difference S2 - S1,
+ * the sphere of radius r1 + r2 about O2 - O1, and the directions from the
+ * origin to a sphere of radius R at distance D fill the cone of half-angle
+ * asin(R / D) (tangent segments reach it, so the bound is tight). The
+ * survey's printed inequality (4), cos(theta) > sqrt(1 - (r1 + r2) / D), is
+ * garbled: the ratio lost its square (and ">" should be ">=", tangent
+ * segments give equality). Since sqrt(1 - x) <= sqrt(1 - x^2) for x in
+ * [0, 1] the printed bound is still true but looser; we use the derived one.
+ * The same segment is at least d = D - r1 - r2 long (0 when the spheres
+ * meet, and then every direction is possible).
+ *
+ * Entities and objects. All pairs of primitives are far too many on a mesh
+ * (the bunny's 75k triangles make 5.6e9), so primitives are grouped into
+ * clusters of at most `objsize` (default 64) by the kit's median BVH
+ * (accel/bvh/, leaves of objsize/2 .. objsize primitives: the median
+ * builder splits every node over objsize at its centroid median, so leaves
+ * are even and spatially compact). Each cluster gets a bounding sphere
+ * (centre: its box's centre; radius: the farthest corner of any member's
+ * box). Every cluster is both an entity (rays originate on it) and an
+ * object (rays hit it). Lights are not entities: a shadow ray leaves a
+ * primitive, and its origin cluster's cube answers any-hit as well as
+ * closest-hit (figure 21's light entity, a light buffer, is what `lightbuf`
+ * is; not implemented here).
+ *
+ * Build (figure 21). Every cluster A gets a direction cube of 6 `res` x
+ * `res` cells (default 8; figure 19's faces and u-v). For every cluster B
+ * (A itself included: rays hit other primitives of their own cluster, and
+ * a concave one may be hit by its own rays), the cone of directions of
+ * rays from A's sphere to B's is computed as above, and B is listed, with
+ * d, in every cell of A's cube whose direction pyramid the cone meets; the
+ * lists are sorted by d (B's are visited in order of d, so appending
+ * keeps every list sorted). A cell's pyramid is bounded by a cone (axis
+ * through its centre, half-angle to its farthest corner: the directions
+ * within an angle < 90 degrees of an axis form a convex cone, so the
+ * corners bound the whole cell); cone meets cone when the angle between
+ * axes is at most the sum of half-angles. The cells of a face are visited
+ * through a precomputed quadtree of such cones (a node's cone bounds its
+ * block of cells), so a narrow cone costs a few nodes, not 6 res^2.
+ *
+ * Query. A ray names the primitive it leaves (ray_t.origin, set by
+ * harness/spawn.c on every secondary ray). When that primitive is in range
+ * and the ray's org lies inside its cluster A's sphere (the cone bound
+ * needs only that: it is a geometric fact about the two spheres, so a
+ * wrong but nearby origin primitive still gives exact answers), the cell
+ * of A's cube holding dir is read, and the listed clusters' primitives are
+ * tested in order of d until d exceeds the distance of the closest hit
+ * found, t |dir| (t is in units of dir; survey s6.3's distance interval),
+ * or for any-hit until an occluder or d beyond tfar |dir|. With `spheres`
+ * (on by default) a listed cluster is first tested against its bounding
+ * sphere (the object's own bound; counted in box_tests), and skipped when
+ * the ray's line misses it or its chord lies outside [tnear, closest t];
+ * steps counts the list entries read, empty_leaves the empty cells read. Every other ray
+ * (eye and random rays, RAY_NO_ORIGIN, an origin outside its cluster's
+ * sphere) goes to the `fallback` accelerator, built through accel_build
+ * with its defaults, and is counted as it counts.
+ *
+ * Parameters (defaults): res (8) cells per cube face side, 1..64;
+ * objsize (64) primitives per cluster at most, 1..65536; fallback (bvh,
+ * the wide SIMD BVH, the fastest besides Embree) the accelerator for rays
+ * without a usable origin, any registered one that answers closest hits,
+ * does not mutate and is not raycoh; spheres
+ * (on) a listed cluster's bounding sphere tested before its primitives;
+ * memcap
+ * (4096) MiB for the clusters, cubes and lists (the fallback has its own
+ * cap): the clusters and cells are estimated before allocating them, the
+ * lists checked before every growth, a build over the cap is refused.
+ *
+ * Sizes and memory layout. Clusters: rc_obj, 24 bytes (sphere centre and
+ * radius, first and count into `ids`), `ids` 4 bytes a primitive (the
+ * clusters' primitives, contiguous), `prim_obj` 4 bytes a primitive (its
+ * cluster). Cells: rc_cell, 8 bytes (first, count into `refs`), 6 res^2 per
+ * cluster, cluster-major then face, v, u (cell (f, i, j) of cluster k at
+ * (k 6 + f) res^2 + j res + i). Lists: rc_ref, 8 bytes (cluster index and
+ * d as a float, rounded down), one run per cell, sorted by d. Quadtree:
+ * built per accelerator, 56 bytes a node, 2 x 6 res^2 - 6 nodes. memory()
+ * adds the fallback's memory. Statistics: nodes (cells, 6 res^2 a
+ * cluster), leaves and empty_leaves (non-empty and empty cells),
+ * avg_leaf_prims (primitives listed per non-empty cell, every primitive of
+ * a listed cluster), refs_per_prim (those over the scene's primitives),
+ * res_x = res_y = res. The bunny (75k triangles) at the defaults: 2048
+ * clusters, 786k cells, about 34M list entries (some 280 MB), 5.6 s.
+ *
+ * Tolerances. Sphere radii are computed in double, rounded up to float and
+ * grown by `margin` = 1e-6 x the scene box's diagonal + 4e-6 x its largest
+ * coordinate magnitude (spawned origins sit a few ulps off their surface,
+ * pbrt-v4's offset, and hit points of a primitive are rounded), then by
+ * another margin for the cones: a query accepts an origin within r +
+ * margin of its cluster's centre, the cones use r + 2 margin, so the
+ * double/float rounding of the acceptance test never admits an origin
+ * outside the spheres the cones were built for. Cells are grown by 1e-3 in
+ * u and v (the float u-v of a query direction is within a few ulps of the
+ * true one) and every cone test by 1e-6 radians more. d is computed from
+ * the grown radii in double, times (1 - 1e-6), rounded down to float; the
+ * stop test compares it with t |dir| (1 + 1e-5); the sphere test grows
+ * the radius as the cones do (2 margin), then by 1e-6 relative, and the
+ * chord's ends by 1e-6 of |t_closest_approach| + half-chord. Spheres meeting within
+ * 1e-9 relative (and A with itself) give the full sphere of directions.
+ *
+ * Not implemented: the paper's tighter bounds (convex polyhedra around
+ * objects instead of spheres), light entities (a light's cube for shadow
+ * rays: they use the cube of the primitive they leave), cubes for the eye
+ * (eye rays use the fallback), non-uniform cell subdivision. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "accel.h"
+#include "bvh/bvh.h"
+#include "common/dircube.h"
+#include "common/memcap.h"
+#include "common/prim_test.h"
+#include "raycoh_ohta_maekawa.h"
+
+#define RC_UV_MARGIN 1e-3      /* cells grown by this in u and v */
+#define RC_ANGLE_SLACK 1e-6    /* radians added to every cone-cone test */
+#define RC_DEPTH_SLACK 1e-6    /* d shrunk by this relative amount */
+#define RC_STOP_SLACK 1e-5     /* t |dir| grown by this before comparing with d */
+#define RC_NO_OBJ UINT32_MAX
+
+typedef struct { vec3 c; float r; uint32_t first, count; } rc_obj; /* 24 bytes */
+typedef struct { uint32_t first, count; } rc_cell;                 /* 8 bytes */
+typedef struct { uint32_t obj; float d; } rc_ref;                  /* 8 bytes */
+static_assert(sizeof(rc_obj) == 24 && sizeof(rc_cell) == 8 && sizeof(rc_ref) == 8, "the sizes the header states");
+
+/* A quadtree node over a block of one face's cells: the bounding cone of
+ * the block's (grown) direction pyramids. Leaves are single cells. */
+typedef struct {
+    double axis[3];
+    double alpha;              /* half-angle, radians */
+    uint16_t i0, i1, j0, j1;   /* cells [i0, i1) x [j0, j1) */
+    int32_t child[2];          /* -1: a leaf (one cell) */
+    int32_t face;
+} rc_node;
+
+typedef struct {
+    accel base;
+    const prims_t *p;
+    uint32_t res, objsize, nobj, ncell_per_obj;
+    rc_obj *objs;
+    uint32_t *ids, *prim_obj;
+    rc_cell *cells;
+    rc_ref *refs;
+    uint64_t nrefs, refs_cap, prim_refs;
+    rc_node *nodes;
+    int32_t roots[6];
+    uint32_t nnodes, nonempty;
+    float margin;
+    bool spheres; /* test a listed cluster's sphere before its primitives */
+    accel *fb;
+} rc_t;
+
+typedef struct { accel_ctx *fb; void (*fb_free)(accel_ctx *); } rc_ctx; /* the fallback's context */
+
+static const accel_param rc_params[] = {
+    {"res", "8", "cells per direction-cube face side, 1..64 (6 res^2 cells per cluster)"},
+    {"objsize", "64", "primitives per cluster at most, 1..65536 (clusters: the kit's median BVH leaves)"},
+    {"fallback", "bvh", "accelerator for rays without a usable origin primitive (eye, random rays): a registry name"},
+    {"spheres", "on", "on|off: test a listed cluster's bounding sphere before its primitives (an object's own bound)"},
+    {"memcap", "4096", "MiB: refuse a build whose clusters, cells and lists exceed it"},
+    {NULL, NULL, NULL},
+};
+
+/* ------------------------------------------------------------ geometry */
+
+/* The direction of (u, v) on face f (not normalised). */
+static void face_dir(int f, double u, double v, double d[3])
+{
+    int a = f / 2, o1 = a == 0 ? 1 : 0, o2 = a == 2 ? 1 : 2;
+    d[a] = f & 1 ? -1.0 : 1.0;
+    d[o1] = u;
+    d[o2] = v;
+}
+
+static double dnorm(double d[3])
+{
+    double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++) d[k] /= l;
+    return l;
+}
+
+static double angle_between(const double a[3], const double b[3])
+{
+    double c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    return acos(c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c);
+}
+
+/* The bounding cone of cells [i0, i1) x [j0, j1) of face f, grown. */
+static void block_cone(rc_node *n, int f, uint32_t res)
+{
+    double u0 = -1.0 + 2.0 * n->i0 / res - RC_UV_MARGIN, u1 = -1.0 + 2.0 * n->i1 / res + RC_UV_MARGIN;
+    double v0 = -1.0 + 2.0 * n->j0 / res - RC_UV_MARGIN, v1 = -1.0 + 2.0 * n->j1 / res + RC_UV_MARGIN;
+    face_dir(f, 0.5 * (u0 + u1), 0.5 * (v0 + v1), n->axis);
+    dnorm(n->axis);
+    double alpha = 0.0, c[3];
+    const double us[2] = {u0, u1}, vs[2] = {v0, v1};
+    for (int k = 0; k < 4; k++) {
+        face_dir(f, us[k & 1], vs[k >> 1], c);
+        dnorm(c);
+        alpha = fmax(alpha, angle_between(n->axis, c));
+    }
+    n->alpha = alpha + RC_ANGLE_SLACK;
+    n->face = f;
+}
+
+/* Build the quadtree below a block, halving its longer side; returns its index. */
+static int32_t build_node(rc_t *t, int f, uint16_t i0, uint16_t i1, uint16_t j0, uint16_t j1)
+{
+    int32_t k = (int32_t)t->nnodes++;
+    rc_node *n = &t->nodes[k];
+    *n = (rc_node){.i0 = i0, .i1 = i1, .j0 = j0, .j1 = j1, .child = {-1, -1}};
+    block_cone(n, f, t->res);
+    if (i1 - i0 == 1 && j1 - j0 == 1) return k;
+    int32_t a, b;
+    if (i1 - i0 >= j1 - j0) {
+        uint16_t m = (uint16_t)((i0 + i1) / 2);
+        a = build_node(t, f, i0, m, j0, j1), b = build_node(t, f, m, i1, j0, j1);
+    } else {
+        uint16_t m = (uint16_t)((j0 + j1) / 2);
+        a = build_node(t, f, i0, i1, j0, m), b = build_node(t, f, i0, i1, m, j1);
+    }
+    t->nodes[k].child[0] = a, t->nodes[k].child[1] = b;
+    return k;
+}
+
+/* A cone of directions: unit axis, half-angle (>= pi: every direction). */
+typedef struct { double axis[3], theta; } rc_cone;
+
+/* The cells (local index (f res + j) res + i) of every leaf below node k whose cone meets c. */
+static uint32_t cone_cells(const rc_t *t, int32_t k, const rc_cone *c, uint32_t *out, uint32_t n)
+{
+    const rc_node *nd = &t->nodes[k];
+    if (c->theta < M_PI && angle_between(nd->axis, c->axis) > nd->alpha + c->theta + RC_ANGLE_SLACK) return n;
+    if (nd->child[0] < 0) {
+        out[n++] = ((uint32_t)nd->face * t->res + nd->j0) * t->res + nd->i0;
+        return n;
+    }
+    n = cone_cells(t, nd->child[0], c, out, n);
+    return cone_cells(t, nd->child[1], c, out, n);
+}
+
+/* The cell of A's cube (local index) that holds direction dir. */
+static inline uint32_t cell_of(const rc_t *t, vec3 dir)
+{
+    int f = dircube_face(dir);
+    float u, v;
+    dircube_uv(dir, f, &u, &v);
+    float s = 0.5f * (float)t->res;
+    int i = (int)((u + 1.0f) * s), j = (int)((v + 1.0f) * s), r = (int)t->res - 1;
+    i = i < 0 ? 0 : i > r ? r : i;
+    j = j < 0 ? 0 : j > r ? r : j;
+    return ((uint32_t)f * t->res + (uint32_t)j) * t->res + (uint32_t)i;
+}
+
+/* ------------------------------------------------------------ build */
+
+/* Cluster k's bounding sphere: its box's centre, the farthest member box corner, rounded up. */
+static void cluster_sphere(const prims_t *p, const uint32_t *ids, rc_obj *o)
+{
+    box3 b = prim_bounds(p, ids[0]);
+    for (uint32_t i = 1; i < o->count; i++) b = box_union(b, prim_bounds(p, ids[i]));
+    double c[3] = {0.5 * ((double)b.lo.x + b.hi.x), 0.5 * ((double)b.lo.y + b.hi.y), 0.5 * ((double)b.lo.z + b.hi.z)};
+    double r2 = 0.0;
+    for (uint32_t i = 0; i < o->count; i++) {
+        box3 q = prim_bounds(p, ids[i]);
+        double dx = fmax(fabs(q.lo.x - c[0]), fabs(q.hi.x - c[0]));
+        double dy = fmax(fabs(q.lo.y - c[1]), fabs(q.hi.y - c[1]));
+        double dz = fmax(fabs(q.lo.z - c[2]), fabs(q.hi.z - c[2]));
+        r2 = fmax(r2, dx * dx + dy * dy + dz * dz);
+    }
+    o->c = v3((float)c[0], (float)c[1], (float)c[2]);
+    /* The float centre moved by up to half an ulp a coordinate: cover that too. */
+    double moved = fabs(o->c.x - c[0]) + fabs(o->c.y - c[1]) + fabs(o->c.z - c[2]);
+    o->r = nextafterf((float)((sqrt(r2) + moved) * (1.0 + 1e-7)), INFINITY);
+}
+
+static int make_clusters(rc_t *t)
+{
+    const prims_t *p = t->p;
+    uint32_t n = p->count;
+    box3 *boxes = malloc((size_t)n * sizeof *boxes + 1);
+    if (!boxes) return -1;
+    for (uint32_t i = 0; i < n; i++) boxes[i] = prim_bounds(p, i);
+    bvh_config cfg;
+    bvh_config_defaults(&cfg);
+    cfg.max_leaf = t->objsize;
+    bvh_t b;
+    memset(&b, 0, sizeof b);
+    int rc = bvh_build_median(&b, boxes, NULL, n, &cfg);
+    free(boxes);
+    if (rc != 0) return -1;
+    t->nobj = b.nleaves;
+    t->objs = malloc((size_t)t->nobj * sizeof *t->objs + 1);
+    t->ids = malloc((size_t)n * sizeof *t->ids + 1);
+    t->prim_obj = malloc((size_t)n * sizeof *t->prim_obj + 1);
+    if (!t->objs || !t->ids || !t->prim_obj) {
+        bvh_free(&b);
+        return -1;
+    }
+    uint32_t k = 0, first = 0;
+    for (uint32_t i = 0; i < b.nnodes; i++) {
+        const bvh_node *nd = &b.nodes[i];
+        if (!nd->count) continue;
+        rc_obj *o = &t->objs[k];
+        o->first = first, o->count = nd->count;
+        for (uint32_t j = 0; j < nd->count; j++) {
+            t->ids[first + j] = b.refs[nd->index + j];
+            t->prim_obj[b.refs[nd->index + j]] = k;
+        }
+        cluster_sphere(p, &t->ids[first], o);
+        first += nd->count, k++;
+    }
+    bvh_free(&b);
+    return 0;
+}
+
+/* The cone and distance bound of rays from cluster a to cluster b, radii grown by g. */
+static rc_cone pair_cone(const rc_obj *a, const rc_obj *b, double g, float *d)
+{
+    rc_cone c;
+    c.axis[0] = (double)b->c.x - a->c.x, c.axis[1] = (double)b->c.y - a->c.y, c.axis[2] = (double)b->c.z - a->c.z;
+    double D = sqrt(c.axis[0] * c.axis[0] + c.axis[1] * c.axis[1] + c.axis[2] * c.axis[2]);
+    double R = (double)a->r + b->r + 2.0 * g;
+    if (a == b || !(D > R * (1.0 + 1e-9))) {
+        c.theta = 2.0 * M_PI, *d = 0.0f;
+        c.axis[0] = 1.0, c.axis[1] = c.axis[2] = 0.0;
+        return c;
+    }
+    for (int k = 0; k < 3; k++) c.axis[k] /= D;
+    c.theta = asin(R / D);
+    double dd = (D - R) * (1.0 - RC_DEPTH_SLACK);
+    float df = (float)dd;
+    *d = (double)df > dd ? nextafterf(df, 0.0f) : df;
+    return c;
+}
+
+typedef struct { uint32_t obj; float d; } rc_pair;
+
+static int pair_cmp(const void *x, const void *y)
+{
+    const rc_pair *a = x, *b = y;
+    if (a->d != b->d) return a->d < b->d ? -1 : 1;
+    return a->obj < b->obj ? -1 : a->obj > b->obj;
+}
+
+/* Room for m more refs, within the cap. */
+static int refs_reserve(rc_t *t, uint64_t m, uint64_t base_bytes, uint64_t cap, char *err, size_t errlen)
+{
+    if (t->nrefs + m <= t->refs_cap) return 0;
+    uint64_t want = t->refs_cap ? t->refs_cap : 1024;
+    while (want < t->nrefs + m) want *= 2;
+    if (want > UINT32_MAX) want = t->nrefs + m;
+    if (t->nrefs + m > UINT32_MAX) {
+        snprintf(err, errlen, "raycoh: over 2^32 - 1 list entries: lower res or raise objsize");
+        return -2;
+    }
+    uint64_t bytes = memcap_add(base_bytes, memcap_mul(t->nrefs + m, sizeof(rc_ref)));
+    if (memcap_exceeded(bytes, cap, err, errlen, "raycoh's clusters, cells and %llu list entries",
+                        (unsigned long long)(t->nrefs + m)))
+        return -2;
+    if (memcap_mul(want, sizeof(rc_ref)) + base_bytes > cap * 1048576ull) want = t->nrefs + m;
+    rc_ref *r = realloc(t->refs, (size_t)want * sizeof *r);
+    if (!r) return -1;
+    t->refs = r, t->refs_cap = want;
+    return 0;
+}
+
+/* Cluster a's cube: every cluster, in order of d, into the cells its cone
+ * meets. cellbuf: [0, nc) one cone's cells, then the cell of every staged
+ * ref (nc (1 + nobj) entries in all); the refs are staged in the refs
+ * array's tail, then counting-sorted by cell, stably, so each cell's run
+ * stays sorted by d. */
+static int fill_cube(rc_t *t, uint32_t a, rc_pair *pairs, uint32_t *cellbuf, uint32_t *count, uint64_t base_bytes,
+                     uint64_t cap, char *err, size_t errlen)
+{
+    const rc_obj *A = &t->objs[a];
+    uint32_t nc = t->ncell_per_obj;
+    for (uint32_t b = 0; b < t->nobj; b++) {
+        pairs[b].obj = b;
+        pair_cone(A, &t->objs[b], t->margin, &pairs[b].d);
+    }
+    qsort(pairs, t->nobj, sizeof *pairs, pair_cmp);
+    memset(count, 0, nc * sizeof *count);
+    uint64_t m = 0;
+    for (uint32_t k = 0; k < t->nobj; k++) {
+        float d;
+        rc_cone c = pair_cone(A, &t->objs[pairs[k].obj], t->margin, &d);
+        uint32_t n = 0;
+        for (int f = 0; f < 6; f++) n = cone_cells(t, t->roots[f], &c, cellbuf, n);
+        int rc = refs_reserve(t, m + n, base_bytes, cap, err, errlen);
+        if (rc) return rc;
+        for (uint32_t i = 0; i < n; i++) {
+            t->refs[t->nrefs + m + i] = (rc_ref){pairs[k].obj, d};
+            cellbuf[nc + m + i] = cellbuf[i];
+            count[cellbuf[i]]++;
+        }
+        m += n;
+    }
+    rc_cell *cells = &t->cells[(size_t)a * nc];
+    uint32_t first = (uint32_t)t->nrefs;
+    for (uint32_t c = 0; c < nc; c++) {
+        cells[c].first = first, cells[c].count = 0;
+        first += count[c];
+        t->nonempty += count[c] != 0;
+    }
+    rc_ref *staged = malloc((size_t)m * sizeof *staged + 1);
+    if (!staged) return -1;
+    memcpy(staged, &t->refs[t->nrefs], (size_t)m * sizeof *staged);
+    for (uint64_t i = 0; i < m; i++) {
+        rc_cell *cl = &cells[cellbuf[nc + i]];
+        t->refs[cl->first + cl->count++] = staged[i];
+        t->prim_refs += t->objs[staged[i].obj].count;
+    }
+    free(staged);
+    t->nrefs += m;
+    return 0;
+}
+
+static void rc_destroy(accel *a)
+{
+    rc_t *t = (rc_t *)a;
+    if (!t) return;
+    if (t->fb) t->fb->ops->destroy(t->fb);
+    free(t->objs), free(t->ids), free(t->prim_obj), free(t->cells), free(t->refs), free(t->nodes);
+    free(t);
+}
+
+static accel *build_fallback(const scene_t *scene, const accel_params *params, const char *name, char *err, size_t errlen)
+{
+    const struct accel_ops *ops = accel_find(name);
+    if (!ops || strcmp(name, "raycoh") == 0 || !ops->intersect || (ops->flags & (ACCEL_MUTATES | ACCEL_SHADOW_ONLY))) {
+        snprintf(err, errlen, "raycoh: fallback '%s' is not a registered accelerator answering closest hits that does "
+                 "not mutate (and is not raycoh)", name);
+        return NULL;
+    }
+    accel_params fp;
+    params_defaults(&fp, ops->params);
+    fp.threads = params->threads, fp.seed = params->seed; /* the harness's, not table entries */
+    char sub[400];
+    accel *fb = accel_build(ops, scene, &fp, sub, sizeof sub);
+    if (!fb) {
+        snprintf(err, errlen, "raycoh: fallback %s: %s", name, sub);
+        return NULL;
+    }
+    if (accel_serial(fb)) {
+        fb->ops->destroy(fb);
+        snprintf(err, errlen, "raycoh: fallback '%s' must be traced on one thread; choose another", name);
+        return NULL;
+    }
+    return fb;
+}
+
+static int read_params(const accel_params *params, long *res, long *objsize, long *cap, int *spheres, char *err,
+                       size_t errlen)
+{
+    static const char *const words[] = {"off", "on", NULL};
+    if (params_get_long(params, "res", 1, 64, res, err, errlen) ||
+        params_get_choice(params, "spheres", words, spheres, err, errlen) ||
+        params_get_long(params, "objsize", 1, 65536, objsize, err, errlen) ||
+        params_get_long(params, "memcap", 1, 1L << 30, cap, err, errlen))
+        return -1;
+    return 0;
+}
+
+static accel *rc_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+{
+    long res, objsize, cap;
+    int spheres;
+    if (read_params(params, &res, &objsize, &cap, &spheres, err, errlen)) return NULL;
+    rc_t *t = calloc(1, sizeof *t);
+    if (!t) goto oom;
+    t->p = &scene->prims;
+    t->res = (uint32_t)res, t->objsize = (uint32_t)objsize, t->spheres = spheres == 1;
+    t->ncell_per_obj = 6 * t->res * t->res;
+    t->fb = build_fallback(scene, params, params_get(params, "fallback"), err, errlen);
+    if (!t->fb) goto fail;
+    uint32_t n = t->p->count;
+    uint64_t maxobj = n ? (n + t->objsize - 1) / t->objsize * 2 : 0; /* median leaves hold at least objsize/2 */
+    uint64_t nodes_bytes = memcap_mul(4 * (uint64_t)t->ncell_per_obj, sizeof(rc_node));
+    uint64_t base = memcap_add(memcap_add(memcap_mul(maxobj, sizeof(rc_obj)), memcap_mul(n, 8)),
+                               memcap_add(memcap_mul(memcap_mul(maxobj, t->ncell_per_obj), sizeof(rc_cell)), nodes_bytes));
+    if (memcap_exceeded(memcap_add(base, memcap_mul(maxobj, t->ncell_per_obj * sizeof(rc_ref))), (uint64_t)cap, err,
+                        errlen, "raycoh's %llu clusters with %u cells each and their self entries",
+                        (unsigned long long)maxobj, t->ncell_per_obj))
+        goto fail;
+    box3 sb = t->p->box;
+    float mag = fmaxf(fmaxf(fmaxf(fabsf(sb.lo.x), fabsf(sb.lo.y)), fmaxf(fabsf(sb.lo.z), fabsf(sb.hi.x))),
+                      fmaxf(fabsf(sb.hi.y), fabsf(sb.hi.z)));
+    t->margin = n ? 1e-6f * box_diagonal(sb) + 4e-6f * mag + 1e-30f : 0.0f;
+    t->nodes = malloc((size_t)4 * t->ncell_per_obj * sizeof *t->nodes);
+    if (!t->nodes) goto oom;
+    for (int f = 0; f < 6; f++) t->roots[f] = build_node(t, f, 0, (uint16_t)t->res, 0, (uint16_t)t->res);
+    if (n && make_clusters(t)) goto oom;
+    /* Every cluster is listed in at least one cell of every cube: nobj^2 entries at least, known before any. */
+    uint64_t least = memcap_add(memcap_mul(memcap_mul(t->nobj, t->nobj), sizeof(rc_ref)),
+                                memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rc_cell) + 4));
+    if (memcap_exceeded(least, (uint64_t)cap, err, errlen, "raycoh's %u clusters, all pairs listed at least once,",
+                        t->nobj))
+        goto fail;
+    t->cells = calloc((size_t)t->nobj * t->ncell_per_obj + 1, sizeof *t->cells);
+    /* Per cube: the pairs, and every cluster's cells (a cube may list a cluster in all its cells). */
+    rc_pair *pairs = malloc((size_t)t->nobj * sizeof *pairs + 1);
+    uint32_t *count = malloc((size_t)t->ncell_per_obj * sizeof *count);
+    uint64_t cb = (uint64_t)t->ncell_per_obj * (1 + (uint64_t)t->nobj);
+    uint32_t *cellbuf = malloc((size_t)cb * sizeof *cellbuf);
+    int rc = t->cells && pairs && count && cellbuf ? 0 : -1;
+    uint64_t base_bytes = memcap_add(memcap_add(memcap_mul(t->nobj, sizeof(rc_obj)), memcap_mul(n, 8)),
+                                     memcap_add(memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rc_cell)),
+                                                nodes_bytes));
+    for (uint32_t a = 0; a < t->nobj && rc == 0; a++)
+        rc = fill_cube(t, a, pairs, cellbuf, count, base_bytes, (uint64_t)cap, err, errlen);
+    free(pairs), free(count), free(cellbuf);
+    if (rc == -2) goto fail;
+    if (rc) goto oom;
+    return &t->base;
+oom:
+    snprintf(err, errlen, "raycoh: out of memory building over %u primitives", scene->prims.count);
+fail:
+    rc_destroy(t ? &t->base : NULL);
+    return NULL;
+}
+
+/* ------------------------------------------------------------ queries */
+
+/* The cluster whose cube answers ray, or RC_NO_OBJ: the origin primitive in
+ * range and the ray's org within its cluster's sphere grown by margin (the
+ * cones assume 2 margin: the rounding of this test cannot matter). */
+static inline uint32_t origin_cluster(const rc_t *t, const ray_t *ray)
+{
+    uint32_t o = ray->origin;
+    if (o >= t->p->count) return RC_NO_OBJ;
+    uint32_t k = t->prim_obj[o];
+    const rc_obj *A = &t->objs[k];
+    double dx = (double)ray->org.x - A->c.x, dy = (double)ray->org.y - A->c.y, dz = (double)ray->org.z - A->c.z;
+    double r = (double)A->r + t->margin;
+    return dx * dx + dy * dy + dz * dz <= r * r ? k : RC_NO_OBJ;
+}
+
+/* |dir| grown by the stop slack, in double: a float |dir|^2 underflows to 0
+ * for directions of tiny components (which would stop every walk at once)
+ * and overflows for huge ones. */
+static inline double ray_dir_len(const ray_t *ray)
+{
+    double x = ray->dir.x, y = ray->dir.y, z = ray->dir.z;
+    return sqrt(x * x + y * y + z * z) * (1.0 + RC_STOP_SLACK);
+}
+
+/* Whether the ray may meet cluster o's primitives in [tnear, tmax]: its
+ * line passes within the sphere (radius grown by 2 margin, as the cones
+ * are, and by 1e-6 relative) and the chord through it overlaps the range
+ * (by 1e-6 of the distances involved). In double, from the perpendicular
+ * offset (no cancellation of b^2 against |o|^2 |d|^2). */
+static inline bool sphere_may_hit(const rc_t *t, const rc_obj *o, const ray_t *ray, float tmax)
+{
+    double ox = (double)ray->org.x - o->c.x, oy = (double)ray->org.y - o->c.y, oz = (double)ray->org.z - o->c.z;
+    double dx = ray->dir.x, dy = ray->dir.y, dz = ray->dir.z, dd = dx * dx + dy * dy + dz * dz;
+    double tca = -(ox * dx + oy * dy + oz * dz) / dd;
+    double px = ox + tca * dx, py = oy + tca * dy, pz = oz + tca * dz;
+    double R = ((double)o->r + 2.0 * t->margin) * (1.0 + 1e-6), h2 = R * R - (px * px + py * py + pz * pz);
+    if (h2 < 0.0) return false;
+    double h = sqrt(h2 / dd), slack = 1e-6 * (fabs(tca) + h) + 1e-30;
+    return tca + h + slack >= ray->tnear && tca - h - slack <= tmax;
+}
+
+static inline __attribute__((always_inline)) bool walk_closest(const rc_t *t, uint32_t k, const ray_t *ray, hit_t *hit,
+                                                               counters_t *c, const bool counting)
+{
+    const rc_cell *cl = &t->cells[(size_t)k * t->ncell_per_obj + cell_of(t, ray->dir)];
+    double dl = ray_dir_len(ray);
+    if (counting && !cl->count) c->empty_leaves++;
+    const rc_ref *r = &t->refs[cl->first], *end = r + cl->count;
+    for (; r < end; r++) {
+        if (r->d > hit->t * dl) break; /* every later object lies beyond the closest hit (double: no overflow) */
+        if (counting) c->steps++, c->box_tests += t->spheres;
+        const rc_obj *o = &t->objs[r->obj];
+        if (t->spheres && !sphere_may_hit(t, o, ray, hit->t)) continue;
+        for (uint32_t i = 0; i < o->count; i++) prim_test_closest(t->p, t->ids[o->first + i], ray, hit, c, counting);
+    }
+    return hit->prim != HIT_NONE;
+}
+
+static inline __attribute__((always_inline)) bool walk_any(const rc_t *t, uint32_t k, const ray_t *ray, counters_t *c,
+                                                           const bool counting)
+{
+    const rc_cell *cl = &t->cells[(size_t)k * t->ncell_per_obj + cell_of(t, ray->dir)];
+    double reach = ray->tfar * ray_dir_len(ray);
+    if (counting && !cl->count) c->empty_leaves++;
+    const rc_ref *r = &t->refs[cl->first], *end = r + cl->count;
+    for (; r < end; r++) {
+        if (r->d > reach) break;
+        if (counting) c->steps++, c->box_tests += t->spheres;
+        const rc_obj *o = &t->objs[r->obj];
+        if (t->spheres && !sphere_may_hit(t, o, ray, ray->tfar)) continue;
+        for (uint32_t i = 0; i < o->count; i++)
+            if (prim_test_any(t->p, t->ids[o->first + i], ray, c, counting)) return true;
+    }
+    return false;
+}
+
+static accel_ctx *rc_context_new(accel *a)
+{
+    rc_t *t = (rc_t *)a;
+    rc_ctx *x = calloc(1, sizeof *x);
+    if (x && t->fb->ops->context_new) x->fb = t->fb->ops->context_new(t->fb), x->fb_free = t->fb->ops->context_free;
+    return (accel_ctx *)x;
+}
+
+static void rc_context_free(accel_ctx *ctx)
+{
+    rc_ctx *x = (rc_ctx *)ctx;
+    if (x && x->fb_free) x->fb_free(x->fb);
+    free(x);
+}
+
+static bool rc_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
+{
+    rc_t *t = (rc_t *)a;
+    uint32_t k = origin_cluster(t, ray);
+    if (k == RC_NO_OBJ) return t->fb->ops->intersect(t->fb, ((rc_ctx *)ctx)->fb, ray, hit, c);
+    return walk_closest(t, k, ray, hit, c, true);
+}
+
+static bool rc_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+{
+    rc_t *t = (rc_t *)a;
+    uint32_t k = origin_cluster(t, ray);
+    if (k == RC_NO_OBJ) return t->fb->ops->occluded(t->fb, ((rc_ctx *)ctx)->fb, ray, c);
+    return walk_any(t, k, ray, c, true);
+}
+
+static bool rc_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
+{
+    rc_t *t = (rc_t *)a;
+    uint32_t k = origin_cluster(t, ray);
+    if (k == RC_NO_OBJ) {
+        accel *f = t->fb;
+        if (f->ops->version >= 2 && f->ops->intersect_fast) return f->ops->intersect_fast(f, ((rc_ctx *)ctx)->fb, ray, hit);
+        counters_t dummy = {0};
+        return f->ops->intersect(f, ((rc_ctx *)ctx)->fb, ray, hit, &dummy);
+    }
+    return walk_closest(t, k, ray, hit, NULL, false);
+}
+
+static bool rc_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
+{
+    rc_t *t = (rc_t *)a;
+    uint32_t k = origin_cluster(t, ray);
+    if (k == RC_NO_OBJ) {
+        accel *f = t->fb;
+        if (f->ops->version >= 2 && f->ops->occluded_fast) return f->ops->occluded_fast(f, ((rc_ctx *)ctx)->fb, ray);
+        counters_t dummy = {0};
+        return f->ops->occluded(f, ((rc_ctx *)ctx)->fb, ray, &dummy);
+    }
+    return walk_any(t, k, ray, NULL, false);
+}
+
+static size_t rc_memory(const accel *a)
+{
+    const rc_t *t = (const rc_t *)a;
+    return sizeof *t + (size_t)t->nobj * sizeof(rc_obj) + (size_t)t->p->count * 8 +
+           (size_t)t->nobj * t->ncell_per_obj * sizeof(rc_cell) + (size_t)t->nrefs * sizeof(rc_ref) +
+           (size_t)t->nnodes * sizeof(rc_node) + t->fb->ops->memory(t->fb);
+}
+
+static int rc_stats(const accel *a, accel_stat *out, int max)
+{
+    const rc_t *t = (const rc_t *)a;
+    uint64_t cells = (uint64_t)t->nobj * t->ncell_per_obj;
+    accel_stat s[] = {
+        {"nodes", (double)cells},
+        {"leaves", (double)t->nonempty},
+        {"empty_leaves", (double)(cells - t->nonempty)},
+        {"avg_leaf_prims", t->nonempty ? (double)t->prim_refs / (double)t->nonempty : 0.0},
+        {"refs_per_prim", t->p->count ? (double)t->prim_refs / t->p->count : 0.0},
+        {"res_x", (double)t->res},
+        {"res_y", (double)t->res},
+    };
+    int n = (int)(sizeof s / sizeof s[0]);
+    if (n > max) n = max;
+    memcpy(out, s, (size_t)n * sizeof *s);
+    return n;
+}
+
+static const char *const rc_variants[] = {
+    "res=1,objsize=1",
+    "res=3,objsize=5,spheres=off",
+    "res=16,objsize=8,fallback=grid",
+    "objsize=65536,fallback=exhaustive",
+    NULL,
+};
+
+const struct accel_ops accel_raycoh = {
+    .version = 2,
+    .name = "raycoh",
+    .summary = "Ohta-Maekawa ray coherence: a direction cube per primitive cluster, candidate clusters by the "
+               "coherence theorem's cone, depth-sorted; rays without an origin to a fallback",
+    .paper = "Ohta & Maekawa, CG International 1987; Arvo & Kirk 1989 survey s6.1, s6.3, s6.5, figs. 19-21",
+    .params = rc_params,
+    .flags = 0,
+    .build = rc_build,
+    .context_new = rc_context_new,
+    .context_free = rc_context_free,
+    .intersect = rc_intersect,
+    .occluded = rc_occluded,
+    .memory = rc_memory,
+    .destroy = rc_destroy,
+    .stats = rc_stats,
+    .intersect_fast = rc_intersect_fast,
+    .occluded_fast = rc_occluded_fast,
+    .variants = rc_variants,
+};
+
+/* ------------------------------------------------------------ test hooks */
+
+bool raycoh_debug_listed(vec3 c1, float r1, vec3 c2, float r2, uint32_t res, vec3 dir)
+{
+    /* The quadtree of the last res asked for, kept (tests ask many times). */
+    static rc_t t;
+    static uint32_t *cells;
+    if (t.res != res) {
+        free(t.nodes), free(cells);
+        memset(&t, 0, sizeof t);
+        t.res = res, t.ncell_per_obj = 6 * res * res;
+        t.nodes = malloc((size_t)4 * t.ncell_per_obj * sizeof *t.nodes);
+        cells = malloc((size_t)t.ncell_per_obj * sizeof *cells);
+        if (!t.nodes || !cells) abort();
+        for (int f = 0; f < 6; f++) t.roots[f] = build_node(&t, f, 0, (uint16_t)res, 0, (uint16_t)res);
+    }
+    rc_obj a = {c1, r1, 0, 1}, b = {c2, r2, 0, 1};
+    float d;
+    rc_cone c = pair_cone(&a, &b, 0.0, &d);
+    uint32_t n = 0, want = cell_of(&t, dir);
+    for (int f = 0; f < 6; f++) n = cone_cells(&t, t.roots[f], &c, cells, n);
+    bool found = false;
+    for (uint32_t i = 0; i < n; i++) found |= cells[i] == want;
+    return found;
+}
+
+float raycoh_debug_depth(vec3 c1, float r1, vec3 c2, float r2)
+{
+    rc_obj a = {c1, r1, 0, 1}, b = {c2, r2, 0, 1};
+    float d;
+    pair_cone(&a, &b, 0.0, &d);
+    return d;
+}
+
+uint32_t raycoh_debug_clusters(const accel *a) { return ((const rc_t *)a)->nobj; }
+
+bool raycoh_debug_uses_cube(const accel *a, const ray_t *ray) { return origin_cluster((const rc_t *)a, ray) != RC_NO_OBJ; }
