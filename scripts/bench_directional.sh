@@ -12,7 +12,10 @@
 #   - Arvo and Kirk's ray classification (raycls) on primary, shadow and
 #     reflection rays, lazy (every timed pass starts from the post-build
 #     state, so its lazy-build time, stat_lazy_build_ms, is part of every
-#     sample) and eager (lazy=off: built to the rays' needs before tracing).
+#     sample) and eager (lazy=off: built to the rays' needs before tracing);
+#   - Ohta and Maekawa's ray coherence (raycoh) on the same rays: secondary
+#     rays through the direction cube of the cluster they leave, eye rays
+#     through its fallback (the wide bvh).
 # Every cell is verified and paired with Embree (accelbench run), all in one
 # matrix.csv: one `run` per parameter setting into the same folder (the cell
 # key holds the parameters; an interrupted run resumes when started again
@@ -40,6 +43,8 @@ $AB run --accels lightbuf --workloads shadow --param lightbuf.cull=off --param l
 # Ray classification: lazy (its default), then eager.
 $AB run --accels raycls --workloads primary,shadow,reflection "${COMMON[@]}"
 $AB run --accels raycls --workloads primary,shadow,reflection --param raycls.lazy=off "${COMMON[@]}"
+# Ray coherence.
+$AB run --accels raycoh --workloads primary,shadow,reflection "${COMMON[@]}"
 
 scripts/plot.py "$OUT/matrix.csv" --quiet
 scripts/summary.py "$OUT/matrix.csv" --out "$OUT/summary.md"
