@@ -40,11 +40,11 @@ $AB run --accels lightbuf --workloads shadow "${COMMON[@]}"
 $AB run --accels lightbuf --workloads shadow --param lightbuf.res=auto "${COMMON[@]}"
 $AB run --accels lightbuf --workloads shadow --param lightbuf.cull=off --param lightbuf.single=off \
     --param lightbuf.fullocc=off "${COMMON[@]}"
+# Ray coherence (before ray classification, whose lazy passes are the longest).
+$AB run --accels raycoh --workloads primary,shadow,reflection "${COMMON[@]}"
 # Ray classification: lazy (its default), then eager.
 $AB run --accels raycls --workloads primary,shadow,reflection "${COMMON[@]}"
 $AB run --accels raycls --workloads primary,shadow,reflection --param raycls.lazy=off "${COMMON[@]}"
-# Ray coherence.
-$AB run --accels raycoh --workloads primary,shadow,reflection "${COMMON[@]}"
 
 scripts/plot.py "$OUT/matrix.csv" --quiet
 scripts/summary.py "$OUT/matrix.csv" --out "$OUT/summary.md"
