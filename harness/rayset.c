@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <stddef.h>
 #include <string.h>
 
 /* Version 3: rays carry their origin primitive (ray_t.origin). Version 2
@@ -269,30 +270,33 @@ rayset_t *rayset_load(const char *path, char *err, size_t errlen)
     return rs;
 }
 
-int rayset_check_lights(const rayset_t *rs, const char *path, const char *scene, uint32_t nlights, char *err,
-                        size_t errlen)
+/* Every ray's index field (at offset field of ray_t) is `none` or below
+ * bound; else one line: "PATH: ray I VERB NOUN V, but scene 'S' has N NOUNs". */
+static int check_index_field(const rayset_t *rs, size_t field, uint32_t none, uint32_t bound, const char *verb,
+                             const char *noun, const char *path, const char *scene, char *err, size_t errlen)
 {
     for (uint32_t i = 0; i < rs->count; i++) {
-        uint32_t l = rs->rays[i].light;
-        if (l != RAY_NO_LIGHT && l >= nlights) {
-            snprintf(err, errlen, "%s: ray %u goes to light %u, but scene '%s' has %u light%s", path, i, l, scene,
-                     nlights, nlights == 1 ? "" : "s");
+        uint32_t v;
+        memcpy(&v, (const char *)&rs->rays[i] + field, sizeof v);
+        if (v != none && v >= bound) {
+            snprintf(err, errlen, "%s: ray %u %s %s %u, but scene '%s' has %u %s%s", path, i, verb, noun, v, scene, bound,
+                     noun, bound == 1 ? "" : "s");
             return -1;
         }
     }
     return 0;
 }
 
+int rayset_check_lights(const rayset_t *rs, const char *path, const char *scene, uint32_t nlights, char *err,
+                        size_t errlen)
+{
+    return check_index_field(rs, offsetof(ray_t, light), RAY_NO_LIGHT, nlights, "goes to", "light", path, scene, err,
+                             errlen);
+}
+
 int rayset_check_origins(const rayset_t *rs, const char *path, const char *scene, uint32_t nprims, char *err,
                          size_t errlen)
 {
-    for (uint32_t i = 0; i < rs->count; i++) {
-        uint32_t o = rs->rays[i].origin;
-        if (o != RAY_NO_ORIGIN && o >= nprims) {
-            snprintf(err, errlen, "%s: ray %u leaves primitive %u, but scene '%s' has %u primitive%s", path, i, o, scene,
-                     nprims, nprims == 1 ? "" : "s");
-            return -1;
-        }
-    }
-    return 0;
+    return check_index_field(rs, offsetof(ray_t, origin), RAY_NO_ORIGIN, nprims, "leaves", "primitive", path, scene,
+                             err, errlen);
 }
