@@ -75,5 +75,6 @@ int cell_key_format(const cell_key_parts *k, char *buf, size_t len)
     n = put_word(buf, len, n, "threads", v);
     snprintf(v, sizeof v, "%d", k->repeat);
     n = put_word(buf, len, n, "repeat", v);
+    if (k->warm) n = put_word(buf, len, n, "passes", "warm");
     return n < len ? 0 : -1;
 }

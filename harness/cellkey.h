@@ -45,6 +45,7 @@ typedef struct {
     const workload_opts *wl; /* the options the rays were made from, or NULL: rays given as a set */
     uint64_t rays_hash;      /* when wl is NULL: the set's rayset_hash */
     int threads, repeat;
+    bool warm;               /* run --warm-passes: the word "passes=warm" ends the key */
 } cell_key_parts;
 
 /* The key into buf (len bytes). Returns 0, or -1 when it does not fit

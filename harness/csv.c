@@ -15,7 +15,7 @@ static const char *const columns_head[] = {
     "steps_per_ray", "empty_leaves_per_ray", "mailbox_hits_per_ray", "predicted_tests_per_ray",
     "predicted_box_tests_per_ray", "agree", "mismatch_real",
     "mismatch_edge", "mismatch_tol", "mismatch_refwrong", "mismatch_origin", "mismatch_unjudged", "illposed_rays",
-    "judge_ms", "serial", "res", "spp", "repeat", "passes", "timed_path", NULL,
+    "judge_ms", "serial", "res", "spp", "repeat", "passes", "timed_path", "timed_from", NULL,
 };
 /* Statistics that have columns of their own (in columns_head, beside the
  * measured counters they predict) instead of stat_ ones. */
@@ -169,6 +169,8 @@ static void put_row(FILE *f, const csv_row *r)
     put_size(f, r->no_rays ? 0 : r->passes);
     fputc(',', f);
     put_text(f, r->no_rays ? "" : r->timed_path);
+    fputc(',', f);
+    put_text(f, r->no_rays || !r->timed_from ? "" : r->timed_from);
     put_stats(f, r);
     const char *const tail[] = {r->run_id, r->cell_key, r->git_rev, r->machine, r->cpu, r->date}; /* columns_tail */
     for (int i = 0; i < 6; i++) {

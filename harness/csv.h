@@ -40,6 +40,8 @@ typedef struct {
     int repeat;
     int passes;                /* traces of the ray set per timed sample; times are per pass */
     const char *timed_path;    /* "fast", "counting" or "opaque": the methods the timed samples called */
+    const char *timed_from;    /* "reset": an accelerator with reset() timed from its post-build state every pass;
+                                  "warm": not reset (run --warm-passes); "": it has no reset() */
     accel_stat stats[ACCEL_STATS_MAX]; /* the accelerator's statistics (names from accel_stat_names[]) */
     int nstats;
     /* A ray set of no rays: nothing was built, traced or timed, and every

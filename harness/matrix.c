@@ -238,7 +238,8 @@ static int run_cell_key(const options *o, int si, int wi, const accel_config *ac
 {
     cell_key_parts k = {.scene = o->scenes[si], .accel = ac->ops->name, .params = ac->params_str,
                         .workload = replay ? replay->workload : o->workloads[wi]->name, .wl = replay ? NULL : &o->wl,
-                        .rays_hash = replay ? replay->hash : 0, .threads = o->threads, .repeat = o->repeat};
+                        .rays_hash = replay ? replay->hash : 0, .threads = o->threads, .repeat = o->repeat,
+                        .warm = o->warm_passes};
     if (cell_key_format(&k, buf, len) == 0) return 0;
     fprintf(stderr, "accelbench: %s %s %s: the cell key is longer than %d bytes\n", o->scenes[si], ac->ops->name,
             k.workload, CELL_KEY_MAX - 1);
@@ -439,7 +440,7 @@ int matrix_run(options *o)
     }
 
     cell_settings settings = {.threads = o->threads, .repeat = o->repeat, .width = o->wl.width, .height = o->wl.height,
-                              .spp = o->wl.spp, .mi = &mi};
+                              .spp = o->wl.spp, .warm_passes = o->warm_passes, .mi = &mi};
     if (replay) settings.width = settings.height = settings.spp = 0; /* a replayed file's image is its own, or none */
     int index = 0, measured = 0;
     double wall0 = clock_ms();

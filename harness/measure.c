@@ -87,7 +87,8 @@ static int row_frame(const cell_rays *c, const accel_config *ac, const cell_sett
     r->spp = image ? (int)rs->spp : st->spp;
     snprintf(r->run_id, sizeof r->run_id, "%s", run_id_current());
     cell_key_parts k = {.scene = r->scene, .accel = r->accel, .params = r->params, .workload = r->workload,
-                        .wl = NULL, .rays_hash = rs->hash, .threads = st->threads, .repeat = st->repeat};
+                        .wl = NULL, .rays_hash = rs->hash, .threads = st->threads, .repeat = st->repeat,
+                        .warm = st->warm_passes};
     if (cell_key_format(&k, r->cell_key, sizeof r->cell_key)) {
         fprintf(stderr, "accelbench: %s %s %s: the cell key is longer than %d bytes\n", r->scene, r->accel, r->workload,
                 CELL_KEY_MAX - 1);
@@ -112,9 +113,11 @@ int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings
     /* Each series' passes come from untimed traces of its own path (the
      * warm-up is one when the accelerator has no fast path); the reference
      * runs on the accelerator's thread count, whatever it was built with. */
-    timed_series sa = {.a = w.a, .threads = w.threads, .path = TRACE_FAST};
+    timed_series sa = {.a = w.a, .threads = w.threads, .path = TRACE_FAST, .warm = st->warm_passes};
     timed_series se = {.a = c->ref, .threads = w.threads, .path = TRACE_FAST};
-    sa.passes = timing_calibrate(&sa, rs, scratch, trace_has_fast(w.a, rs->query) ? -1 : w.warm_ms);
+    /* A warm series' passes follow the warm-up's growth, so the warm-up's own time (a cold pass) does not calibrate it. */
+    bool warm_up_calibrates = !trace_has_fast(w.a, rs->query) && !(sa.warm && accel_resets(w.a));
+    sa.passes = timing_calibrate(&sa, rs, scratch, warm_up_calibrates ? w.warm_ms : -1);
     se.passes = timing_calibrate(&se, rs, scratch, -1);
     paired_timing pt = timing_pairs(&sa, &se, rs, st->repeat, scratch);
     answers_free(scratch);
@@ -139,6 +142,7 @@ int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings
     r->judge_ms = vr->judge_ms;
     r->passes = sa.passes;
     r->timed_path = timed_path_name(w.a, rs->query);
+    r->timed_from = !accel_resets(w.a) ? "" : st->warm_passes ? "warm" : "reset";
     r->nstats = read_stats(w.a, &pt, r->stats);
     warm_cell_release(&w);
     return 0;

@@ -49,6 +49,7 @@ typedef struct {
     int threads;            /* asked for; an ACCEL_MUTATES accelerator runs on 1 (cell_threads) */
     int repeat;             /* timed pairs */
     int width, height, spp; /* the CSV's res and spp where the ray set has no image of its own (random), 0 = none */
+    bool warm_passes;       /* run --warm-passes: no reset before the timed passes (timing.h) */
     const machine_info *mi;
 } cell_settings;
 

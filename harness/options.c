@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
-       OPT_VIEW, OPT_REDO, OPT_MEMCAP, OPT_SHADOW_ACCEL };
+       OPT_VIEW, OPT_REDO, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -32,6 +32,7 @@ static const struct option long_opts[] = {
     {"view", required_argument, NULL, OPT_VIEW},
     {"memcap", required_argument, NULL, OPT_MEMCAP},
     {"redo", no_argument, NULL, OPT_REDO},
+    {"warm-passes", no_argument, NULL, OPT_WARM_PASSES},
     {"shadow-accel", required_argument, NULL, OPT_SHADOW_ACCEL},
     {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
 };
@@ -88,6 +89,9 @@ void options_usage(FILE *out, const char *cmd)
                 "  --out DIR               output folder (default results/<date-time>); matrix.csv is appended,\n"
                 "                          and cells it already has with the same options are skipped (resumes a run)\n"
                 "  --redo                  measure those cells again, replacing their rows\n"
+                "  --warm-passes           an accelerator built while tracing (raycls) is not reset before its\n"
+                "                          timed passes: they measure the structure the first pass grew, not its\n"
+                "                          growth (CSV timed_from=warm; default: every pass from the post-build state)\n"
                 "  --no-plots              do not call scripts/plot.py at the end\n"
                 "  Every cell is verified against Embree as it runs; mismatch counts go in the CSV.\n"
                 "  SIGINT/SIGTERM abandon the cell in progress and print the command that resumes.\n"
@@ -279,6 +283,13 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
                 return 2;
             }
             o->redo = true;
+            break;
+        case OPT_WARM_PASSES:
+            if (strcmp(cmd, "run") != 0) {
+                fprintf(stderr, "accelbench %s: --warm-passes is an option of run (see accelbench run --help)\n", cmd);
+                return 2;
+            }
+            o->warm_passes = true;
             break;
         case OPT_SHADOW_ACCEL:
             if (strcmp(cmd, "render") != 0) {

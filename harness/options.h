@@ -32,6 +32,7 @@ typedef struct {
     long ray_index;       /* verify --ray I, or -1 */
     bool plots;           /* run: call scripts/plot.py at the end */
     bool redo;            /* run --redo: measure cells the CSV already has again, replacing their rows (resume.h) */
+    bool warm_passes;     /* run --warm-passes: timed passes of a resetting accelerator keep what earlier passes built */
     int argc_full;        /* main's argc and argv (set by main.c): run prints the command that resumes it */
     char **argv_full;
     const char *heatmap;  /* render: NULL, "tests" or "steps" */

@@ -15,7 +15,7 @@ int timing_passes(double once_ms)
 
 double timing_trace_once(const timed_series *s, const rayset_t *rs, answers_t *scratch)
 {
-    accel_reset(s->a);
+    if (!s->warm) accel_reset(s->a);
     return trace_rayset_passes(s->a, rs, s->threads, 1, s->path, scratch);
 }
 
@@ -47,7 +47,7 @@ static double lazy_build_ms(const accel *a)
 static double sample_ms(const timed_series *s, const rayset_t *rs, answers_t *scratch, double *lazy)
 {
     double ms = 0;
-    if (accel_resets(s->a))
+    if (accel_resets(s->a) && !s->warm)
         for (int p = 0; p < s->passes; p++) ms += timing_trace_once(s, rs, scratch);
     else ms = trace_rayset_passes(s->a, rs, s->threads, s->passes, s->path, scratch);
     *lazy = lazy_build_ms(s->a);

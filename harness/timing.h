@@ -14,7 +14,11 @@
  * A series whose accelerator has reset() starts every pass from the
  * post-build state (the reset itself is not timed), so a self-mutating or
  * lazily built structure pays its mutations and its construction in every
- * timed pass instead of hiding them in the warm-up. */
+ * timed pass instead of hiding them in the warm-up. A warm series (run
+ * --warm-passes) is never reset: its passes trace the structure that the
+ * warm-up and the passes before them grew, so they measure lookups in a
+ * grown structure; cold against warm is what lazy construction costs a
+ * first pass over later ones. */
 #ifndef ACCELBENCH_TIMING_H
 #define ACCELBENCH_TIMING_H
 
@@ -32,6 +36,7 @@ typedef struct {
     int threads;
     trace_path path;
     int passes;  /* from timing_calibrate() */
+    bool warm;   /* no reset() before a pass: the passes trace what the earlier ones built (run --warm-passes) */
 } timed_series;
 
 /* A series' samples, ms per pass. */

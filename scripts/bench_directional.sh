@@ -12,7 +12,9 @@
 #   - Arvo and Kirk's ray classification (raycls) on primary, shadow and
 #     reflection rays, lazy (every timed pass starts from the post-build
 #     state, so its lazy-build time, stat_lazy_build_ms, is part of every
-#     sample) and eager (lazy=off: built to the rays' needs before tracing);
+#     sample), the same timed warm (--warm-passes: the passes after the first,
+#     which the lazy build then leaves out) and eager (lazy=off: built to the
+#     rays' needs before tracing);
 #   - Ohta and Maekawa's ray coherence (raycoh) on the same rays: secondary
 #     rays through the direction cube of the cluster they leave, eye rays
 #     through its fallback (the wide bvh).
@@ -45,6 +47,9 @@ $AB run --accels raycoh --workloads primary,shadow,reflection "${COMMON[@]}"
 # Ray classification: lazy (its default), then eager.
 $AB run --accels raycls --workloads primary,shadow,reflection "${COMMON[@]}"
 $AB run --accels raycls --workloads primary,shadow,reflection --param raycls.lazy=off "${COMMON[@]}"
+# Ray classification lazy, timed warm (--warm-passes): the timed passes trace the hyper-octrees the
+# first pass grew, so cold over warm on the same rays is what lazy construction costs a first pass.
+$AB run --accels raycls --workloads primary,shadow,reflection --warm-passes "${COMMON[@]}"
 
 scripts/plot.py "$OUT/matrix.csv" --quiet
 scripts/summary.py "$OUT/matrix.csv" --out "$OUT/summary.md"

@@ -155,8 +155,12 @@ def outside_legend(ax):
 
 
 def config_key(row):
-    """The identity of one accelerator configuration."""
-    return (row["accel"], row.get("params", ""), row.get("threads", ""))
+    """The identity of one accelerator configuration. Rows timed warm (run
+    --warm-passes) are their own configuration, labelled like a parameter."""
+    params = row.get("params", "")
+    if row.get("timed_from") == "warm":
+        params = f"{params},passes=warm" if params else "passes=warm"
+    return (row["accel"], params, row.get("threads", ""))
 
 
 def ordered(values, preferred=()):

@@ -54,7 +54,7 @@ expect 2 "not an accelbench ray file" -- "$AB" verify --scenes spd:balls:1 --ray
 rc=$?
 [ $rc = 0 ] && ok || { bad "run exit $rc"; tail "$T/run.log" >&2; }
 csv="$T/run/matrix.csv"
-header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,ratio_min,ratio_max,embree_ms,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,predicted_tests_per_ray,predicted_box_tests_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,mismatch_origin,mismatch_unjudged,illposed_rays,judge_ms,serial,res,spp,repeat,passes,timed_path,stat_nodes,stat_leaves,stat_empty_leaves,stat_max_depth,stat_avg_leaf_prims,stat_refs_per_prim,stat_res_x,stat_res_y,stat_res_z,stat_lazy_build_ms,stat_hash_load,stat_hash_probes_avg,stat_hash_probes_max,stat_hash_probes_miss_avg,stat_avg_children,run_id,cell_key,git_rev,machine,cpu,date"
+header="scene,prims,accel,params,workload,rays,threads,seed,rayset_hash,build_ms,trace_ms,trace_ms_min,trace_ms_max,mrays_per_s,ratio_vs_embree,ratio_min,ratio_max,embree_ms,mem_bytes,bytes_per_prim,tests_per_ray,prim_hits_per_ray,box_tests_per_ray,steps_per_ray,empty_leaves_per_ray,mailbox_hits_per_ray,predicted_tests_per_ray,predicted_box_tests_per_ray,agree,mismatch_real,mismatch_edge,mismatch_tol,mismatch_refwrong,mismatch_origin,mismatch_unjudged,illposed_rays,judge_ms,serial,res,spp,repeat,passes,timed_path,timed_from,stat_nodes,stat_leaves,stat_empty_leaves,stat_max_depth,stat_avg_leaf_prims,stat_refs_per_prim,stat_res_x,stat_res_y,stat_res_z,stat_lazy_build_ms,stat_hash_load,stat_hash_probes_avg,stat_hash_probes_max,stat_hash_probes_miss_avg,stat_avg_children,run_id,cell_key,git_rev,machine,cpu,date"
 [ "$(head -1 "$csv")" = "$header" ] && ok || bad "CSV header: $(head -1 "$csv")"
 rows=$(($(wc -l < "$csv") - 1))
 [ "$rows" = 20 ] && ok || bad "CSV has $rows rows, want 2 scenes x 2 accels x 5 workloads = 20"
@@ -340,6 +340,31 @@ import csv, sys
 cols = ('workload', 'threads', 'serial', 'tests_per_ray', 'steps_per_ray', 'mailbox_hits_per_ray')
 a, b = ([tuple(r[c] for c in cols) for r in csv.DictReader(open(p))] for p in sys.argv[1:])
 sys.exit(0 if a == b and len(a) == 2 and all(r[1] == '1' and r[2] == '1' for r in a) else 1)
+PY
+
+# --- run --warm-passes: raycls (built while tracing) is reset before every timed pass unless asked not to;
+# the CSV says which (timed_from), the cell key tells the two apart (a warm run beside a cold one measures
+# its cells, a second warm run skips them), the answers and counters (the warm-up's) are the same
+refused "--warm-passes is an option of run" -- "$AB" verify --scenes spd:balls:1 --accels raycls --warm-passes
+W=(--scenes spd:balls:2 --accels raycls,grid --workloads primary,reflection --res 32x32 --repeat 1 --threads 1 --no-plots -q --out "$T/warm")
+"$AB" run "${W[@]}" > /dev/null 2>&1 && ok || bad "cold raycls run"
+"$AB" run "${W[@]}" --warm-passes > "$T/warm.log" 2>&1 && ok || bad "warm raycls run"
+"$AB" run "${W[@]}" --warm-passes > "$T/warm2.log" 2>&1 && ok || bad "second warm raycls run"
+/usr/bin/python3 - "$T/warm/matrix.csv" <<'PY' && ok || bad "--warm-passes: timed_from, cell keys or counters wrong"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 8, len(rows)  # 2 accels x 2 workloads, cold then warm; the second warm run skipped its cells
+by = {}
+for r in rows:
+    warm = r['cell_key'].endswith(' passes=warm')
+    assert r['timed_from'] == ('' if r['accel'] == 'grid' else 'warm' if warm else 'reset'), (r['accel'], r['timed_from'])
+    by.setdefault((r['accel'], r['workload']), {})[warm] = r
+for (accel, wl), pair in by.items():
+    cold, warm = pair[False], pair[True]
+    assert cold['cell_key'] + ' passes=warm' == warm['cell_key']
+    for c in ('tests_per_ray', 'box_tests_per_ray', 'mismatch_real', 'rayset_hash'):
+        assert cold[c] == warm[c], (accel, wl, c, cold[c], warm[c])
+    assert cold['mismatch_real'] == '0'
 PY
 
 echo "$pass passed, $fail failed"

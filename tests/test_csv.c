@@ -142,7 +142,7 @@ static void test_rows(void)
     csv_header(h, sizeof h);
     /* the stat_ columns (as many as accel_stat_names[]) after timed_path; the row's identity before the tail */
     static const char tail[] = ",run_id,cell_key,git_rev,machine,cpu,date";
-    CHECK(strstr(h, ",timed_path,stat_nodes,") != NULL);
+    CHECK(strstr(h, ",timed_path,timed_from,stat_nodes,") != NULL);
     CHECK(strlen(h) > strlen(tail) && strcmp(h + strlen(h) - strlen(tail), tail) == 0);
     int commas = 0;
     for (const char *p = h; *p; p++) commas += *p == ',';

@@ -166,6 +166,21 @@ static void test_pairs(const scene_t *s)
     CHECK(timing_calibrate(&sa, rs, scratch, -1) == PASSES_MAX && a->resets == before + CALIBRATION_TRACES);
     CHECK(timing_calibrate(&sa, rs, scratch, 10.0) == PASSES_MAX && a->resets == before + 2 * CALIBRATION_TRACES - 1);
     CHECK(timing_calibrate(&sa, rs, scratch, 3 * SAMPLE_MIN_MS) == 1 && a->resets == before + 2 * CALIBRATION_TRACES - 1);
+    /* A warm series (run --warm-passes) is never reset: its passes trace
+     * what the earlier ones left, so lazy_build_ms keeps growing from the
+     * last reset (here: every ray traced since). */
+    timed_series warm = sa;
+    warm.warm = true;
+    accel_reset(&a->base);
+    before = a->resets;
+    long fast_before = a->fast;
+    paired_timing tw = timing_pairs(&warm, &se, rs, 3, scratch);
+    CHECK_MSG(a->resets == before, "a warm series was reset %ld times", a->resets - before);
+    CHECK(a->fast == fast_before + 3 * 2 * n && a->since_reset == 3 * 2 * n);
+    CHECK(tw.a.lazy_build_ms > n);
+    timing_trace_once(&warm, rs, scratch);
+    CHECK(a->resets == before && a->since_reset == 3 * 2 * n + n);
+    CHECK(timing_calibrate(&warm, rs, scratch, -1) == PASSES_MAX && a->resets == before);
     a->base.ops->destroy(&a->base);
     e->base.ops->destroy(&e->base);
     answers_free(scratch);
@@ -178,7 +193,7 @@ static void test_csv_header(void)
     csv_header(h, sizeof h);
     CHECK(strncmp(h, "scene,prims,", 12) == 0);
     CHECK(strstr(h, ",ratio_vs_embree,ratio_min,ratio_max,embree_ms,") != NULL);
-    CHECK(strstr(h, ",passes,timed_path,stat_") != NULL);
+    CHECK(strstr(h, ",passes,timed_path,timed_from,stat_") != NULL);
     /* Every statistic has a column: stat_NAME, or, for a prediction of a
      * counter (predicted_*_per_ray), one of its own beside the counters. */
     for (int i = 0; accel_stat_names[i]; i++) {
