@@ -248,6 +248,30 @@ static void test_identical_and_empty(void)
     prims_free(&p);
 }
 
+/* Centroids that differ by a denormal along one axis (the mesh fuzzer's
+ * "v 1 2e-45 1"): the SAH's bin scale bins / extent is +inf there, and the
+ * slot of a centroid was (uint32_t)inf, undefined behaviour (UBSan stopped
+ * lightbuf's and the kit's builds on it). Every builder must give a valid
+ * tree that finds the triangles. */
+static void test_denormal_extent(void)
+{
+    prims_t p;
+    prims_init(&p);
+    for (int i = 0; i < 40; i++) {
+        float dy = (float)(i % 5) * 1e-40f; /* denormal: 1e-40 is below FLT_MIN */
+        add_triangle(&p, v3(0, dy, 0), v3(1, dy, 0), v3(0, dy, 1));
+    }
+    finish(&p);
+    for (int k = 0; k < NBUILDERS; k++) {
+        bvh_t b = build(&builders[k], &p, 2);
+        ray_t ray = ray_through(v3(0.25f, -1.0f, 0.25f), v3(0.25f, 0.0f, 0.25f));
+        hit_t h = hit_none(&ray);
+        CHECK_MSG(bvh_intersect_dfs(&b, &p, NULL, &ray, &h, &(counters_t){0}), "%s: no hit", builders[k].name);
+        bvh_free(&b);
+    }
+    prims_free(&p);
+}
+
 /* The chain: N_k = {N_(k+1), leaf(real k)} for k < L - 1, N_(L-1) =
  * {leaf(decoy), leaf(real L-1)}. Every N's box reaches down to the decoy
  * near the ray origin, so the depth-first walk always enters N_(k+1) first
@@ -313,6 +337,7 @@ int main(void)
 {
     test_overflow();
     test_identical_and_empty();
+    test_denormal_extent();
     test_soup_and_cluster();
     char err[512];
     scene_t *s = scene_load("bunny", err, sizeof err);

@@ -34,12 +34,15 @@ typedef struct {
 } bin_t;
 
 /* The slot of centroid coordinate x: the one formula binning and
- * partitioning both use, so they cannot disagree. */
+ * partitioning both use, so they cannot disagree. f is compared before the
+ * conversion, which is undefined for values past uint32_t: a denormal
+ * centroid extent makes scale +inf (then f is +inf, or NaN at x == lo,
+ * which goes to slot 0). */
 static inline uint32_t slot_of(float x, float lo, float scale, uint32_t bins)
 {
     float f = (x - lo) * scale;
-    uint32_t s = f > 0.0f ? (uint32_t)f : 0;
-    return s < bins ? s : bins - 1;
+    if (!(f > 0.0f)) return 0;
+    return f < (float)bins ? (uint32_t)f : bins - 1;
 }
 
 /* Growing the bins' boxes: x joins the accumulator acc only when it is
