@@ -29,10 +29,15 @@
  * are even and spatially compact). Each cluster gets a bounding sphere
  * (centre: its box's centre; radius: the farthest corner of any member's
  * box). Every cluster is both an entity (rays originate on it) and an
- * object (rays hit it). Lights are not entities: a shadow ray leaves a
- * primitive, and its origin cluster's cube answers any-hit as well as
- * closest-hit (figure 21's light entity, a light buffer, is what `lightbuf`
- * is; not implemented here).
+ * object (rays hit it). Lights are entities with lights=on: the coherence
+ * theorem for a point entity lists, in each cell of the light's cube, the
+ * objects that meet the cell's pyramid from the light, which is the light
+ * buffer (s6.2; figure 21's light entity), so a shadow ray toward scene
+ * light l (ray->light) is answered by light l's cube in a `lightbuf` built
+ * with its defaults (accel/lightbuf_haines_greenberg.c: its lists, depth
+ * order and simplifications), counted as it counts. With lights=off (the
+ * default) a shadow ray leaves a primitive like any secondary ray, and its
+ * origin cluster's cube answers any-hit as it answers closest-hit.
  *
  * Build (figure 21). Every cluster A gets a direction cube of 6 `res` x
  * `res` cells (default 8; figure 19's faces and u-v). For every cluster B
@@ -72,6 +77,7 @@
  * without a usable origin, any registered one that answers closest hits,
  * does not mutate and is not raycoh; spheres
  * (on) a listed cluster's bounding sphere tested before its primitives;
+ * lights (off) on: shadow rays through the lights' cubes (above);
  * memcap
  * (4096) MiB for the clusters, cubes and lists (the fallback has its own
  * cap): the clusters and cells are estimated before allocating them, the
@@ -85,7 +91,7 @@
  * (k 6 + f) res^2 + j res + i). Lists: rc_ref, 8 bytes (cluster index and
  * d as a float, rounded down), one run per cell, sorted by d. Quadtree:
  * built per accelerator, 56 bytes a node, 2 x 6 res^2 - 6 nodes. memory()
- * adds the fallback's memory. Statistics: nodes (cells, 6 res^2 a
+ * adds the fallback's memory and, with lights=on, the light buffer's. Statistics: nodes (cells, 6 res^2 a
  * cluster), leaves and empty_leaves (non-empty and empty cells),
  * avg_leaf_prims (primitives listed per non-empty cell, every primitive of
  * a listed cluster), refs_per_prim (those over the scene's primitives),
@@ -109,8 +115,7 @@
  * 1e-9 relative (and A with itself) give the full sphere of directions.
  *
  * Not implemented: the paper's tighter bounds (convex polyhedra around
- * objects instead of spheres), light entities (a light's cube for shadow
- * rays: they use the cube of the primitive they leave), cubes for the eye
+ * objects instead of spheres), cubes for the eye
  * (eye rays use the fallback), non-uniform cell subdivision. */
 #include <math.h>
 #include <stdio.h>
@@ -160,6 +165,7 @@ typedef struct {
     float margin;
     bool spheres; /* test a listed cluster's sphere before its primitives */
     accel *fb;
+    accel *lb;    /* lights=on: the lights' direction cubes (a light buffer), else NULL */
 } rc_t;
 
 typedef struct { accel_ctx *fb; void (*fb_free)(accel_ctx *); } rc_ctx; /* the fallback's context */
@@ -168,6 +174,8 @@ static const accel_param rc_params[] = {
     {"res", "8", "cells per direction-cube face side, 1..64 (6 res^2 cells per cluster)"},
     {"objsize", "64", "primitives per cluster at most, 1..65536 (clusters: the kit's median BVH leaves)"},
     {"fallback", "bvh", "accelerator for rays without a usable origin primitive (eye, random rays): a registry name"},
+    {"lights", "off", "off|on: on: a shadow ray toward a scene light is answered by that light's direction cube, "
+                      "a light buffer (lightbuf with its defaults); off: by the cube of the primitive it leaves"},
     {"spheres", "on", "on|off: test a listed cluster's bounding sphere before its primitives (an object's own bound)"},
     {"memcap", "4096", "MiB: refuse a build whose clusters, cells and lists exceed it"},
     {NULL, NULL, NULL},
@@ -433,6 +441,7 @@ static void rc_destroy(accel *a)
     rc_t *t = (rc_t *)a;
     if (!t) return;
     if (t->fb) t->fb->ops->destroy(t->fb);
+    if (t->lb) t->lb->ops->destroy(t->lb);
     free(t->objs), free(t->ids), free(t->prim_obj), free(t->cells), free(t->refs), free(t->nodes);
     free(t);
 }
@@ -462,12 +471,27 @@ static accel *build_fallback(const scene_t *scene, const accel_params *params, c
     return fb;
 }
 
-static int read_params(const accel_params *params, long *res, long *objsize, long *cap, int *spheres, char *err,
-                       size_t errlen)
+/* lights=on: the light entities' cubes, one light buffer over every scene
+ * light (lightbuf, its defaults, the harness's threads). */
+static accel *build_lights(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+{
+    const struct accel_ops *ops = accel_find("lightbuf");
+    accel_params lp;
+    params_defaults(&lp, ops->params);
+    lp.threads = params->threads, lp.seed = params->seed;
+    char sub[400];
+    accel *lb = accel_build(ops, scene, &lp, sub, sizeof sub);
+    if (!lb) snprintf(err, errlen, "raycoh: lights=on: lightbuf: %s", sub);
+    return lb;
+}
+
+static int read_params(const accel_params *params, long *res, long *objsize, long *cap, int *spheres, int *lights,
+                       char *err, size_t errlen)
 {
     static const char *const words[] = {"off", "on", NULL};
     if (params_get_long(params, "res", 1, 64, res, err, errlen) ||
         params_get_choice(params, "spheres", words, spheres, err, errlen) ||
+        params_get_choice(params, "lights", words, lights, err, errlen) ||
         params_get_long(params, "objsize", 1, 65536, objsize, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, cap, err, errlen))
         return -1;
@@ -477,8 +501,8 @@ static int read_params(const accel_params *params, long *res, long *objsize, lon
 static accel *rc_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
     long res, objsize, cap;
-    int spheres;
-    if (read_params(params, &res, &objsize, &cap, &spheres, err, errlen)) return NULL;
+    int spheres, lights;
+    if (read_params(params, &res, &objsize, &cap, &spheres, &lights, err, errlen)) return NULL;
     rc_t *t = calloc(1, sizeof *t);
     if (!t) goto oom;
     t->p = &scene->prims;
@@ -486,6 +510,7 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
     t->ncell_per_obj = 6 * t->res * t->res;
     t->fb = build_fallback(scene, params, params_get(params, "fallback"), err, errlen);
     if (!t->fb) goto fail;
+    if (lights == 1 && !(t->lb = build_lights(scene, params, err, errlen))) goto fail;
     uint32_t n = t->p->count;
     uint64_t maxobj = n ? (n + t->objsize - 1) / t->objsize * 2 : 0; /* median leaves hold at least objsize/2 */
     uint64_t nodes_bytes = memcap_mul(4 * (uint64_t)t->ncell_per_obj, sizeof(rc_node));
@@ -635,6 +660,7 @@ static bool rc_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit,
 static bool rc_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
 {
     rc_t *t = (rc_t *)a;
+    if (t->lb && ray->light != RAY_NO_LIGHT) return t->lb->ops->occluded(t->lb, NULL, ray, c);
     uint32_t k = origin_cluster(t, ray);
     if (k == RC_NO_OBJ) return t->fb->ops->occluded(t->fb, ((rc_ctx *)ctx)->fb, ray, c);
     return walk_any(t, k, ray, c, true);
@@ -656,6 +682,7 @@ static bool rc_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t 
 static bool rc_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
 {
     rc_t *t = (rc_t *)a;
+    if (t->lb && ray->light != RAY_NO_LIGHT) return t->lb->ops->occluded_fast(t->lb, NULL, ray);
     uint32_t k = origin_cluster(t, ray);
     if (k == RC_NO_OBJ) {
         accel *f = t->fb;
@@ -671,7 +698,8 @@ static size_t rc_memory(const accel *a)
     const rc_t *t = (const rc_t *)a;
     return sizeof *t + (size_t)t->nobj * sizeof(rc_obj) + (size_t)t->p->count * 8 +
            (size_t)t->nobj * t->ncell_per_obj * sizeof(rc_cell) + (size_t)t->nrefs * sizeof(rc_ref) +
-           (size_t)t->nnodes * sizeof(rc_node) + t->fb->ops->memory(t->fb);
+           (size_t)t->nnodes * sizeof(rc_node) + t->fb->ops->memory(t->fb) +
+           (t->lb ? t->lb->ops->memory(t->lb) : 0);
 }
 
 static int rc_stats(const accel *a, accel_stat *out, int max)
@@ -698,6 +726,7 @@ static const char *const rc_variants[] = {
     "res=3,objsize=5,spheres=off",
     "res=16,objsize=8,fallback=grid",
     "objsize=65536,fallback=exhaustive",
+    "lights=on",
     NULL,
 };
 

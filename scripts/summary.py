@@ -11,6 +11,12 @@ or accel[params that differ]) over every scene of the file:
     ray, build ms and bytes per primitive, and the number of (scene,
     workload) cells it wins;
   - the count of real mismatches (which must be 0);
+  - when the file has cells timed both from a reset (timed_from=reset: every
+    timed pass starts from the post-build state, so a lazily built
+    structure grows itself in each) and warm (run --warm-passes: the passes
+    trace what the first one grew), on the same rays: per cell, the two
+    paired ratios to Embree, cold over warm (what lazy construction costs a
+    first pass over later ones) and the lazy build time of a cold pass;
   - with --predicted, for rows that carry a cost model's prediction
     (bvh-gs: eq. (3) of the survey, predicted_tests_per_ray and
     predicted_box_tests_per_ray), the predicted and measured tests and box
@@ -42,6 +48,46 @@ def geomean(values):
 
 def fmt(v, digits=2):
     return "" if v is None else f"{v:.{digits}f}"
+
+
+def lazy_pass_table(rows, scenes, workloads):
+    """Cold (timed from a reset) against warm (--warm-passes) rows of the same rays, or [] when there are none."""
+    if rows and "timed_from" not in rows[0]:
+        return []
+    def same_rays(r):
+        return (r["accel"], r["params"], r["threads"], r["scene"], r["workload"], r.get("rayset_hash", ""))
+    cold = {same_rays(r): r for r in rows if r["timed_from"] == "reset"}
+    pairs = [(cold[same_rays(r)], r) for r in rows if r["timed_from"] == "warm" and same_rays(r) in cold]
+    if not pairs:
+        return []
+    pairs.sort(key=lambda p: (p[0]["accel"], p[0]["params"], scenes.index(p[0]["scene"]),
+                              workloads.index(p[0]["workload"])))
+    out = ["## Lazy construction: the first pass against later passes\n",
+           "cold: every timed pass from the post-build state (the structure grows itself in each); warm: "
+           "run --warm-passes, the timed passes trace what the first pass grew. Both ratios are paired with "
+           "Embree in their own samples, so cold/warm is what lazy construction costs a first pass over the "
+           "later ones; lazy build ms is what a cold pass spent growing the structure (stat_lazy_build_ms: the median over samples "
+           "of their last pass, where cold ms is the median of whole samples per pass, so the share can pass 100 % "
+           "when growing is nearly all of a pass).\n"]
+    out.append("| accel | params | scene | workload | rays | ratio cold | ratio warm | cold / warm | cold ms | warm ms | "
+               "lazy build ms | lazy share of cold |")
+    out.append("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    quotients = []
+    for c, w in pairs:
+        rc, rw = num(c["ratio_vs_embree"]), num(w["ratio_vs_embree"])
+        q = rc / rw if rc and rw else None
+        if q:
+            quotients.append(q)
+        tc, tw, lb = num(c["trace_ms"]), num(w["trace_ms"]), num(c.get("stat_lazy_build_ms", ""))
+        share = lb / tc if lb is not None and tc else None
+        out.append(f"| {c['accel']} | {c['params']} | {c['scene']} | {c['workload']} | {c['rays']} | {fmt(rc)} | "
+                   f"{fmt(rw)} | {fmt(q, 1)} | {fmt(tc, 1)} | {fmt(tw, 1)} | {fmt(lb, 1)} | "
+                   f"{'' if share is None else f'{100 * share:.0f} %'} |")
+    if quotients:
+        out.append(f"\nOver {len(quotients)} cells, cold / warm: geometric mean {fmt(geomean(quotients), 1)}, "
+                   f"from {fmt(min(quotients), 1)} to {fmt(max(quotients), 1)}.")
+    out.append("")
+    return out
 
 
 def predicted_tables(rows, labels, scenes, workloads):
@@ -124,6 +170,7 @@ def main(argv=None):
                    f"{fmt(med('mrays_per_s'), 3)} | {fmt(med('tests_per_ray'), 1)} | {fmt(med('box_tests_per_ray'), 1)} | "
                    f"{fmt(med('steps_per_ray'), 1)} | {fmt(med('build_ms'), 1)} | {fmt(med('bytes_per_prim'), 1)} | {real} |")
     out.append("")
+    out.extend(lazy_pass_table(rows, scenes, workloads))
     if args.predicted:
         out.extend(predicted_tables(rows, labels, scenes, workloads))
     text = "\n".join(out) + "\n"

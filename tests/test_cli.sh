@@ -366,6 +366,10 @@ for (accel, wl), pair in by.items():
         assert cold[c] == warm[c], (accel, wl, c, cold[c], warm[c])
     assert cold['mismatch_real'] == '0'
 PY
+# summary.py pairs the cold and warm rows of the same rays: one line per raycls cell, none for grid
+"$SUMMARY" "$T/warm/matrix.csv" --out "$T/warm/summary.md" && ok || bad "summary.py on the warm run"
+[ "$(sed -n '/^## Lazy construction/,$p' "$T/warm/summary.md" | grep -c '^| raycls | .* | spd:balls:2 |')" = 2 ] && ok ||
+    bad "summary.py: no cold/warm line per raycls cell"
 
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

@@ -241,6 +241,34 @@ static void test_brute(const char *scene, const char *const *cfgs)
     scene_free(s);
 }
 
+/* lights=on: shadow rays toward a light go through the light's cube (a
+ * light buffer): the same answers as exhaustive, work counted as the light
+ * buffer counts it (so different from the clusters' cubes), and the light
+ * buffer's memory on top. */
+static void test_lights(void)
+{
+    scene_t *s = test_scene("spd:gears:1");
+    accel *ex = test_build("exhaustive", s, 1);
+    accel *off = rc_with(s, ""), *on = rc_with(s, "lights=on");
+    workload_opts o = test_wl(24, 24, 1);
+    rayset_t *rs = workload_find("shadow")->make(s, ex, &o);
+    CHECK(rs->count > 0 && rs->rays[0].light != RAY_NO_LIGHT);
+    compare(s, on, ex, rs, "[lights=on] shadow");
+    counters_t con = {0}, coff = {0};
+    accel_ctx *xon = on->ops->context_new(on), *xoff = off->ops->context_new(off);
+    for (uint32_t i = 0; i < rs->count; i++) {
+        on->ops->occluded(on, xon, &rs->rays[i], &con);
+        off->ops->occluded(off, xoff, &rs->rays[i], &coff);
+    }
+    on->ops->context_free(xon), off->ops->context_free(xoff);
+    CHECK_MSG(con.steps != coff.steps || con.prim_tests != coff.prim_tests,
+              "lights=on counted as lights=off: the light's cube was not used");
+    CHECK(on->ops->memory(on) > off->ops->memory(off));
+    rayset_free(rs);
+    on->ops->destroy(on), off->ops->destroy(off), ex->ops->destroy(ex);
+    scene_free(s);
+}
+
 /* ---------------------------------------------------------- refusals */
 
 static void test_memcap(void)
@@ -266,7 +294,7 @@ static void test_refusals(void)
         {"res=0", "res"},           {"res=65", "res"},           {"objsize=0", "objsize"},
         {"objsize=70000", "objsize"}, {"memcap=0", "memcap"}, {"spheres=maybe", "spheres"},     {"fallback=nosuch", "fallback 'nosuch'"},
         {"fallback=raycoh", "fallback 'raycoh'"}, {"fallback=lightbuf", "fallback 'lightbuf'"},
-        {"fallback=grid-raybox", "fallback 'grid-raybox'"},
+        {"fallback=grid-raybox", "fallback 'grid-raybox'"}, {"lights=maybe", "lights"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char err[512] = "";
@@ -282,9 +310,10 @@ int main(void)
     test_refusals();
     test_memcap();
     test_cones();
+    test_lights();
     static const char *const mixed[] = {"", "res=1,objsize=1", "res=5,objsize=3", "res=5,objsize=3,spheres=off", "res=16,objsize=1000,fallback=exhaustive",
                                         NULL};
-    static const char *const big[] = {"", "res=3,objsize=4", "objsize=2,spheres=off", NULL};
+    static const char *const big[] = {"", "res=3,objsize=4", "objsize=2,spheres=off", "lights=on", NULL};
     test_brute("gen:room", mixed);
     test_brute("spd:balls:2", mixed);
     test_brute("spd:tree:2", big);
