@@ -15,6 +15,10 @@
  *     CPU Ray Tracing", ACM TOG 33(4), 2014); the subtrees below the
  *     top built on the harness's threads (accel_params threads), the
  *     same tree for every count (accel/bvh/build.c: Wald, IEEE TVCG 2012);
+ *   - split=sbvh: spatial splits, M. Stich, H. Friedrich, A. Dietrich,
+ *     "Spatial Splits in Bounding Volume Hierarchies", HPG 2009 (s3; the
+ *     overlap threshold alpha of s3.2), accel/bvh/build_sbvh.c, with the
+ *     primitives clipped exactly by prims/clip.c (prim_clip_bounds);
  *   - wide nodes and their collapse from a binary SAH tree (accel/bvh/
  *     collapse.c): H. Dammertz, J. Hanika, A. Keller, "Shallow Bounding
  *     Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays",
@@ -39,6 +43,14 @@
  *                 with trace times within this machine's noise (before
  *                 leaf costs counted whole packets, which brought it to
  *                 67.5).
+ *   split=object  object: the binned SAH's object splits | sbvh: also
+ *                 spatial splits (build_sbvh.c): a primitive may be in
+ *                 several leaves (refs_per_prim > 1, at most 2), the
+ *                 counters count a primitive once per leaf that tests it;
+ *                 built on one thread (the same tree for any count).
+ *   alpha=1e-5    sbvh: a spatial split is looked for where the object
+ *                 split's two boxes overlap by more than alpha times the
+ *                 root's surface area, 0..1 (Stich et al. s3.2).
  *   packets=on    on: every leaf whose primitives are all triangles keeps
  *                 them as prims/ triangle packets (prim_tri_pack: 4
  *                 triangles' corners in SoA, 160 bytes) tested by
@@ -75,8 +87,8 @@
  * refs_per_prim, avg_children (used slots per node).
  *
  * Not yet (issue 13's later stages): the packet lanes tested with SIMD
- * (prims/ tests them one after the other, with one ray set-up), spatial splits (split=sbvh), a
- * multithreaded build, quantised nodes (compress=on), width=2. */
+ * (prims/ tests them one after the other, with one ray set-up), a
+ * multithreaded sbvh build, quantised nodes (compress=on), width=2. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -90,6 +102,8 @@ static const accel_param champ_params[] = {
     {"bins", "16", "binned SAH: bins per axis, 2..256 (Wald 2007)"},
     {"leafsize", "4", "largest leaf the SAH builder may make, 1..32"},
     {"travcost", "2", "SAH: cost of a node visit over one primitive test, 0.1..100 (bigger: larger leaves)"},
+    {"split", "object", "object: binned SAH object splits | sbvh: with spatial splits (Stich et al. 2009)"},
+    {"alpha", "1e-5", "sbvh: try a spatial split when the object split's overlap passes alpha x the root's area, 0..1"},
     {"packets", "on", "on: leaves of triangles only tested as prims/ triangle packets (4 in SoA) | off: through refs"},
     {"isa", "auto", "box kernels: auto (the best this CPU has) | scalar | sse42 | avx2 | avx512"},
     {"memcap", "4096", "MiB: refuse a build whose scratch and nodes exceed it"},
@@ -155,17 +169,23 @@ static int parse_isa(const accel_params *params, wide_isa *isa, char *err, size_
     return 0;
 }
 
+/* sbvh's clip: the part of a primitive inside a box, exactly (prims/clip.c). */
+static box3 clip_prim(const void *ctx, uint32_t prim, box3 box) { return prim_clip_bounds(ctx, prim, box); }
+
 static accel *champ_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
     static const char *const widths[] = {"4", "8", NULL}, *const onoff[] = {"off", "on", NULL};
-    int wsel, packets;
+    static const char *const splits[] = {"object", "sbvh", NULL};
+    int wsel, packets, sbvh;
     long bins, leafsize, memcap;
-    double travcost;
+    double travcost, alpha;
     wide_isa isa;
     if (params_get_choice(params, "width", widths, &wsel, err, errlen) ||
         params_get_long(params, "bins", 2, 256, &bins, err, errlen) ||
         params_get_long(params, "leafsize", 1, 32, &leafsize, err, errlen) ||
         params_get_double(params, "travcost", 0.1, 100.0, &travcost, err, errlen) ||
+        params_get_choice(params, "split", splits, &sbvh, err, errlen) ||
+        params_get_double(params, "alpha", 0.0, 1.0, &alpha, err, errlen) ||
         params_get_choice(params, "packets", onoff, &packets, err, errlen) || parse_isa(params, &isa, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
         return NULL;
@@ -176,8 +196,10 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
         snprintf(err, errlen, "bvh: %u primitives, more than leaf indices reach (%u)", n, WIDE_INDEX);
         return NULL;
     }
-    if (memcap_exceeded(binary_bytes(n), (uint64_t)memcap, err, errlen,
-                        "bvh: the binary SAH build over %u primitives", n))
+    /* sbvh: references up to twice the primitives (bvh_sbvh_config.dup),
+     * 32 bytes each while building, and the tree over them. */
+    if (memcap_exceeded(sbvh ? memcap_add(binary_bytes(2 * (uint64_t)n), memcap_mul(2 * (uint64_t)n, 32)) : binary_bytes(n),
+                        (uint64_t)memcap, err, errlen, "bvh: the binary SAH build over %u primitives", n))
         return NULL;
 
     champ_t *t = calloc(1, sizeof *t);
@@ -206,7 +228,14 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     /* The subtrees on the harness's threads: the same tree for any count
      * (build.c), so a run's thread count never changes what is traced. */
     cfg.threads = params->threads > 0 ? (uint32_t)params->threads : 1;
-    if (bvh_build_sah(&bin, boxes, NULL, n, &cfg)) goto oom;
+    if (sbvh) {
+        bvh_sbvh_config sc;
+        bvh_sbvh_config_defaults(&sc);
+        sc.alpha = alpha, sc.clip = clip_prim, sc.ctx = p;
+        if (bvh_build_sbvh(&bin, boxes, n, &cfg, &sc)) goto oom;
+    } else if (bvh_build_sah(&bin, boxes, NULL, n, &cfg)) {
+        goto oom;
+    }
     free(boxes);
     boxes = NULL;
 
@@ -331,7 +360,7 @@ const wide_bvh *bvh_champion_tree(const accel *a, wide_isa *isa)
 /* Every width with every instruction set this CPU has (the conformance
  * suite cannot skip a variant that this machine refuses, so the list is
  * made at start-up from the CPU), and the leaf and bin settings. */
-static const char *champ_variants[2 * WIDE_ISA_COUNT + 4];
+static const char *champ_variants[2 * WIDE_ISA_COUNT + 6];
 __attribute__((constructor)) static void champ_fill_variants(void)
 {
     static const char *const all[2][WIDE_ISA_COUNT] = {
@@ -345,6 +374,8 @@ __attribute__((constructor)) static void champ_fill_variants(void)
     champ_variants[n++] = "leafsize=1,width=4";
     champ_variants[n++] = "packets=off";
     champ_variants[n++] = "leafsize=16,bins=4";
+    champ_variants[n++] = "split=sbvh";
+    champ_variants[n++] = "split=sbvh,alpha=0,width=4,leafsize=1";
     champ_variants[n] = NULL;
 }
 

@@ -102,13 +102,6 @@ static bool clip_triangle(vec3 a, vec3 b, vec3 c, box3 box, double lo[3], double
     return n > 0;
 }
 
-static box3 box_meet(box3 a, box3 b)
-{
-    a.lo = v3_max(a.lo, b.lo);
-    a.hi = v3_min(a.hi, b.hi);
-    return box_is_empty(a) ? box_empty() : a;
-}
-
 box3 prim_clip_bounds(const prims_t *p, uint32_t id, box3 box)
 {
     if (id >= p->count || box_is_empty(box)) return box_empty();

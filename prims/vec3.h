@@ -55,6 +55,13 @@ static inline box3 box_grow(box3 b, vec3 p) { b.lo = v3_min(b.lo, p); b.hi = v3_
 static inline box3 box_union(box3 a, box3 b) { a.lo = v3_min(a.lo, b.lo); a.hi = v3_max(a.hi, b.hi); return a; }
 static inline bool box_is_empty(box3 b) { return b.lo.x > b.hi.x || b.lo.y > b.hi.y || b.lo.z > b.hi.z; }
 static inline vec3 box_extent(box3 b) { return v3_sub(b.hi, b.lo); }
+/* The common part of two boxes (box_empty() when they do not meet). */
+static inline box3 box_meet(box3 a, box3 b)
+{
+    a.lo = v3_max(a.lo, b.lo);
+    a.hi = v3_min(a.hi, b.hi);
+    return box_is_empty(a) ? box_empty() : a;
+}
 static inline vec3 box_center(box3 b) { return v3_scale(v3_add(b.lo, b.hi), 0.5f); }
 static inline float box_diagonal(box3 b) { return v3_len(box_extent(b)); }
 static inline bool box_overlap(box3 a, box3 b)

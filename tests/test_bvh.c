@@ -272,6 +272,82 @@ static void test_denormal_extent(void)
     prims_free(&p);
 }
 
+/* sbvh's clip over a prims_t. */
+static box3 clip_prims(const void *ctx, uint32_t prim, box3 box) { return prim_clip_bounds(ctx, prim, box); }
+
+static int build_sbvh(bvh_t *b, const prims_t *p, double alpha, uint32_t threads)
+{
+    bvh_config cfg;
+    bvh_config_defaults(&cfg);
+    cfg.threads = threads;
+    bvh_sbvh_config sc;
+    bvh_sbvh_config_defaults(&sc);
+    sc.alpha = alpha, sc.clip = clip_prims, sc.ctx = p;
+    return bvh_build_sbvh(b, p->bounds, p->count, &cfg, &sc);
+}
+
+/* Spatial splits (Stich et al. 2009) on long thin triangles crossing a
+ * cloud of small ones, where object splits' children overlap: a tree of
+ * lower SAH cost than the object-split one, with primitives in several
+ * leaves (and never more references than the budget, 2n), every primitive
+ * in some leaf, every node's box holding its children's, the same tree for
+ * any thread count, and every ray's closest hit and occlusion those of
+ * brute force. alpha=1 never tries a spatial split: one reference each. */
+static void test_sbvh(void)
+{
+    prims_t p;
+    prims_init(&p);
+    for (int i = 0; i < 300; i++) {
+        vec3 c = rnd_v3(-10, 10);
+        add_triangle(&p, c, v3_add(c, rnd_v3(-0.3f, 0.3f)), v3_add(c, rnd_v3(-0.3f, 0.3f)));
+    }
+    for (int i = 0; i < 60; i++) {
+        float y = rnd(-10, 10), z = rnd(-10, 10);
+        add_triangle(&p, v3(-10, y, z), v3(10, y + rnd(-1, 1), z), v3(10, y + rnd(-1, 1), z + 0.2f));
+    }
+    finish(&p);
+    bvh_t obj = build(&builders[1], &p, 4), sb, sb2, one;
+    CHECK(build_sbvh(&sb, &p, 1e-5, 0) == 0 && build_sbvh(&sb2, &p, 1e-5, 2) == 0 && build_sbvh(&one, &p, 1.0, 0) == 0);
+    double cobj = bvh_sah_cost(&obj, 1, 1), csb = bvh_sah_cost(&sb, 1, 1);
+    printf("sbvh: SAH cost %.2f (object splits %.2f), %u refs over %u primitives\n", csb, cobj, sb.nrefs, p.count);
+    CHECK_MSG(csb < cobj, "sbvh's SAH cost %.3f is not below the object split's %.3f", csb, cobj);
+    CHECK(sb.nrefs > p.count && sb.nrefs <= 2 * p.count && one.nrefs == p.count);
+    CHECK(sb.nnodes == sb2.nnodes && sb.nrefs == sb2.nrefs && !memcmp(sb.nodes, sb2.nodes, sb.nnodes * sizeof *sb.nodes) &&
+          !memcmp(sb.refs, sb2.refs, sb.nrefs * sizeof *sb.refs));
+    uint8_t *seen = calloc(p.count, 1);
+    for (uint32_t i = 0; i < sb.nnodes; i++) {
+        const bvh_node *nd = &sb.nodes[i];
+        if (nd->count) {
+            for (uint32_t k = 0; k < nd->count; k++) seen[sb.refs[nd->index + k]] = 1;
+            continue;
+        }
+        for (uint32_t k = 0; k < 2; k++) {
+            box3 cb = sb.nodes[nd->index + k].box;
+            CHECK(box_is_empty(cb) || (v3_get(cb.lo, 0) >= v3_get(nd->box.lo, 0) && v3_get(cb.hi, 0) <= v3_get(nd->box.hi, 0) &&
+                                       v3_get(cb.lo, 1) >= v3_get(nd->box.lo, 1) && v3_get(cb.hi, 1) <= v3_get(nd->box.hi, 1) &&
+                                       v3_get(cb.lo, 2) >= v3_get(nd->box.lo, 2) && v3_get(cb.hi, 2) <= v3_get(nd->box.hi, 2)));
+        }
+    }
+    uint32_t missing = 0;
+    for (uint32_t i = 0; i < p.count; i++) missing += !seen[i];
+    CHECK_MSG(missing == 0, "%u primitives in no leaf", missing);
+    free(seen);
+    uint32_t wrong = 0, hits = 0;
+    for (int i = 0; i < 3000; i++) {
+        ray_t ray = random_ray(p.box, i % 3);
+        hit_t h = hit_none(&ray), ref = hit_none(&ray);
+        counters_t c = {0};
+        bool got = bvh_intersect_dfs(&sb, &p, NULL, &ray, &h, &c);
+        bool want = false;
+        for (uint32_t k = 0; k < p.count; k++) want |= prim_intersect(&p, k, &ray, &ref, &c);
+        hits += want;
+        wrong += got != want || (want && h.t != ref.t) || bvh_occluded_dfs(&sb, &p, NULL, &ray, &c) != want;
+    }
+    CHECK_MSG(wrong == 0 && hits > 100, "sbvh: %u wrong answers of 3000 (%u hits)", wrong, hits);
+    bvh_free(&obj), bvh_free(&sb), bvh_free(&sb2), bvh_free(&one);
+    prims_free(&p);
+}
+
 /* The chain: N_k = {N_(k+1), leaf(real k)} for k < L - 1, N_(L-1) =
  * {leaf(decoy), leaf(real L-1)}. Every N's box reaches down to the decoy
  * near the ray origin, so the depth-first walk always enters N_(k+1) first
@@ -338,6 +414,7 @@ int main(void)
     test_overflow();
     test_identical_and_empty();
     test_denormal_extent();
+    test_sbvh();
     test_soup_and_cluster();
     char err[512];
     scene_t *s = scene_load("bunny", err, sizeof err);

@@ -31,6 +31,24 @@ typedef uint32_t (*bvh_split_fn)(uint32_t *ids, uint32_t n, box3 box, const box3
 int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg,
                       bvh_split_fn split);
 
+/* The binned SAH (build_sah.c) in parts, for builders that weigh its
+ * object split against others (build_sbvh.c). bvh_sah_best: the cheapest
+ * cut of ids[0 .. n) (a node with box `box`) over the three axes; cost is
+ * ct A(box) + ci (A(L) N(L) + A(R) N(R)) with counts in leaf_block
+ * blocks, left and right the two sides' boxes; axis -1 (cost +inf) when
+ * every centroid falls into one slot. bvh_sah_partition: ids reordered,
+ * the left side first; returns its count. bvh_sah_leaf_cost: ci N A(box),
+ * the same units. */
+typedef struct {
+    double cost;
+    int axis;
+    uint32_t slot;
+    box3 cb, left, right; /* centroid bounds; the sides' boxes */
+} bvh_sah_choice;
+bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
+                            const bvh_config *cfg);
+uint32_t bvh_sah_partition(uint32_t *ids, uint32_t n, const vec3 *centroids, const bvh_sah_choice *ch, uint32_t bins);
+double bvh_sah_leaf_cost(uint32_t n, box3 box, const bvh_config *cfg);
 /* Centroid bounds of ids[0 .. n). */
 box3 bvh_centroid_bounds(const uint32_t *ids, uint32_t n, const vec3 *centroids);
 /* Reorder ids[0 .. n) so that ids[k] holds the primitive of k-th smallest

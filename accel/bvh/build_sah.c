@@ -72,14 +72,13 @@ static box3 centroid_bounds(const uint32_t *ids, uint32_t n, const vec3 *centroi
 /* n primitives as the leaf tests pay for them: whole blocks. */
 static inline double blocks(uint32_t n, uint32_t block) { return (double)((n + block - 1) / block * block); }
 
-static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
-                          const bvh_config *cfg)
+bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
+                            const bvh_config *cfg)
 {
     uint32_t nb = cfg->bins;
     box3 cb = centroid_bounds(ids, n, centroids);
-    double area = box_area(box), best = INFINITY;
-    int best_axis = -1;
-    uint32_t best_slot = 0;
+    double area = box_area(box);
+    bvh_sah_choice ch = {.cost = INFINITY, .axis = -1, .slot = 0, .cb = cb, .left = box_empty(), .right = box_empty()};
     /* The three axes binned in one pass over the primitives (Wald 2007
      * bins all three at once): each box and centroid is fetched through
      * ids once instead of once per axis. The bins are the ones a pass per
@@ -107,14 +106,16 @@ static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes
     for (int axis = 0; axis < 3; axis++) {
         if (!live[axis]) continue;
         const bin_t *bin = bins[axis];
-        /* right[k]: area-times-count of bins k+1 .. nb-1, swept from the right. */
+        /* right[k]: area-times-count of bins k+1 .. nb-1, swept from the right; right_box[k] their box. */
         double right[SAH_MAX_BINS];
+        box3 right_box[SAH_MAX_BINS];
         box3 acc = box_empty();
         uint32_t cnt = 0;
         for (uint32_t k = nb - 1; k > 0; k--) {
             acc = bin_union(acc, bin[k].box);
             cnt += bin[k].count;
             right[k - 1] = cnt ? (double)box_area(acc) * blocks(cnt, cfg->leaf_block) : -1.0; /* -1: empty side */
+            right_box[k - 1] = acc;
         }
         acc = box_empty();
         cnt = 0;
@@ -123,17 +124,19 @@ static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes
             cnt += bin[k].count;
             if (!cnt || right[k] < 0.0) continue;
             double cost = cfg->cost_traversal * area + cfg->cost_intersect * ((double)box_area(acc) * blocks(cnt, cfg->leaf_block) + right[k]);
-            if (cost < best) best = cost, best_axis = axis, best_slot = k;
+            if (cost < ch.cost) ch.cost = cost, ch.axis = axis, ch.slot = k, ch.left = acc, ch.right = right_box[k];
         }
     }
-    if (best_axis < 0) return 0; /* every centroid in one slot: the driver splits by count */
-    if (n <= cfg->max_leaf && (double)cfg->cost_intersect * blocks(n, cfg->leaf_block) * area <= best) return 0;
+    return ch;
+}
 
-    /* Partition: slots <= best_slot first. */
-    float lo = v3_get(cb.lo, best_axis), scale = (float)nb / (v3_get(cb.hi, best_axis) - lo);
+uint32_t bvh_sah_partition(uint32_t *ids, uint32_t n, const vec3 *centroids, const bvh_sah_choice *ch, uint32_t bins)
+{
+    /* Slots <= ch->slot first, by the binning's own slot formula. */
+    float lo = v3_get(ch->cb.lo, ch->axis), scale = (float)bins / (v3_get(ch->cb.hi, ch->axis) - lo);
     uint32_t i = 0, j = n;
     while (i < j) {
-        if (slot_of(v3_get(centroids[ids[i]], best_axis), lo, scale, nb) <= best_slot) {
+        if (slot_of(v3_get(centroids[ids[i]], ch->axis), lo, scale, bins) <= ch->slot) {
             i++;
         } else {
             uint32_t t = ids[i];
@@ -142,6 +145,20 @@ static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes
         }
     }
     return i;
+}
+
+double bvh_sah_leaf_cost(uint32_t n, box3 box, const bvh_config *cfg)
+{
+    return (double)cfg->cost_intersect * blocks(n, cfg->leaf_block) * box_area(box);
+}
+
+static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
+                          const bvh_config *cfg)
+{
+    bvh_sah_choice ch = bvh_sah_best(ids, n, box, boxes, centroids, cfg);
+    if (ch.axis < 0) return 0; /* every centroid in one slot: the driver splits by count */
+    if (n <= cfg->max_leaf && bvh_sah_leaf_cost(n, box, cfg) <= ch.cost) return 0;
+    return bvh_sah_partition(ids, n, centroids, &ch, cfg->bins);
 }
 
 int bvh_build_sah(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg)

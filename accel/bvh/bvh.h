@@ -110,6 +110,19 @@ void bvh_config_defaults(bvh_config *cfg);
 int bvh_build_median(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg);
 int bvh_build_sah(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg);
 int bvh_build_insert(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg);
+/* The spatial split builder (build_sbvh.c: Stich, Friedrich and Dietrich,
+ * HPG 2009), which alone needs the primitives themselves, through clip:
+ * the bounds of primitive prim's part inside box (empty when it has none;
+ * never outside box or the primitive's box). A primitive may end up in
+ * several leaves (refs holds nrefs >= n ids). cfg->threads is not used. */
+typedef struct {
+    double alpha; /* try a spatial split when the object split's overlap passes alpha A(root) (default 1e-5) */
+    double dup;   /* references beyond n at most dup n (default 1; 0: none, so no spatial split) */
+    box3 (*clip)(const void *ctx, uint32_t prim, box3 box);
+    const void *ctx;
+} bvh_sbvh_config;
+void bvh_sbvh_config_defaults(bvh_sbvh_config *s);
+int bvh_build_sbvh(bvh_t *b, const box3 *boxes, uint32_t n, const bvh_config *cfg, const bvh_sbvh_config *s);
 
 void bvh_free(bvh_t *b);
 /* Bytes held: 32 nnodes + 4 nrefs. */
