@@ -2,6 +2,7 @@
  *
  *   accelbench list [accels|scenes|workloads]
  *   accelbench run     --scenes L --accels L --workloads L [...]   benchmark matrix -> CSV + plots
+ *   accelbench merge   DIR... --out DIR                          shard folders of run --shard K/N -> one CSV
  *   accelbench verify  --scenes L --accels L --workloads L [...]   agreement with Embree
  *   accelbench render  --scene S --accel A --out FILE.png [...]    image or cost heat map
  *   accelbench reproduce woo92 [--out DIR] [--quick] [...]          a paper's tables with our numbers
@@ -11,6 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "matrix.h"
+#include "merge.h"
 #include "options.h"
 #include "render.h"
 #include "reproduce.h"
@@ -25,6 +27,7 @@ static void usage(FILE *out)
             "usage: accelbench COMMAND [options]   (accelbench COMMAND --help for its options)\n"
             "  list [accels|scenes|workloads]   names, summaries, parameters with defaults\n"
             "  run      benchmark matrix: scenes x accels x workloads -> DIR/matrix.csv and plots\n"
+            "  merge    DIR... --out DIR: the folders of run --shard K/N into one matrix.csv, every cell once\n"
             "  verify   every ray's answer against Embree; mismatches classified and replayable\n"
             "  render   a shaded image or a per-pixel cost heat map through one accelerator\n"
             "  reproduce woo92   Woo 1992's Tables 1-4 and an ablation, re-run: our numbers, verified\n"
@@ -93,6 +96,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "list")) return cmd_list(argc - 1, argv + 1);
     if (!strcmp(cmd, "scene")) return scene_cmd_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "reproduce")) return reproduce_main(argc - 1, argv + 1);
+    if (!strcmp(cmd, "merge")) return merge_main(argc - 1, argv + 1);
     int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? matrix_verify
                                                             : !strcmp(cmd, "render") ? render_main : NULL;
     if (!run) {

@@ -18,7 +18,9 @@
 #include "machine.h"
 #include "measure.h"
 #include "output.h"
+#include "resources.h"
 #include "resume.h"
+#include "shard.h"
 #include "signals.h"
 #include "trace.h"
 #include "verify.h"
@@ -254,6 +256,7 @@ typedef struct {
     unsigned char *state;  /* [scene][workload][accel] */
     int nw, total, done;   /* workloads per scene; cells; cells the CSV has */
     int other_build;       /* done cells whose row another build (git_rev) measured */
+    const unsigned char *mine; /* run --shard: [scene][workload][accel] 1 for this shard's cells; NULL: all */
 } run_cells;
 
 static unsigned char *cell_state(run_cells *c, const options *o, int si, int wi, int ai)
@@ -263,9 +266,10 @@ static unsigned char *cell_state(run_cells *c, const options *o, int si, int wi,
 
 /* Which cells are there and which the store already has. Returns 0 or 2 (printed). */
 static int plan_cells(const options *o, const results_store *store, const rayset_t *replay, const char *git_rev,
-                      run_cells *c)
+                      const unsigned char *mine, run_cells *c)
 {
     memset(c, 0, sizeof *c);
+    c->mine = mine;
     c->nw = replay ? 1 : o->nworkloads;
     c->state = calloc((size_t)o->nscenes * (size_t)c->nw * (size_t)o->naccels, 1);
     if (!c->state) {
@@ -279,6 +283,7 @@ static int plan_cells(const options *o, const results_store *store, const rayset
                 const accel_config *ac = &o->accels[ai];
                 query_kind q = replay ? replay->query : o->workloads[wi]->query;
                 if (!accel_runs_workload(ac->ops, q)) continue;
+                if (c->mine && !c->mine[((size_t)si * (size_t)c->nw + (size_t)wi) * (size_t)o->naccels + (size_t)ai]) continue;
                 if (run_cell_key(o, si, wi, ac, replay, key, sizeof key)) return 2;
                 c->total++;
                 const char *rev = NULL;
@@ -334,7 +339,8 @@ static void print_found(const options *o, const char *csv_path, const results_fo
 
 /* run.txt: the command, the machine and the run id, appended for each
  * invocation. Returns 0, or 1/2 after printing why. */
-static int write_run_info(const options *o, const char *info_path, const machine_info *mi, const run_cells *c)
+static int write_run_info(const options *o, const char *info_path, const machine_info *mi, const run_cells *c,
+                          const char *shard_line)
 {
     char text[8192], err[1200], cmd[4096];
     cmd[0] = 0;
@@ -342,15 +348,135 @@ static int write_run_info(const options *o, const char *info_path, const machine
     snprintf(text, sizeof text,
              "command: %s\nrun_id: %s\nmachine: %s\ncpu: %s\ngit_rev: %s\ndate: %s\nthreads: %d\nrepeat: %d (timed "
              "samples, each paired with one of Embree's at the same thread count, after 1 warm-up; medians reported)\n"
-             "cells: %d, of which %d were in matrix.csv already%s\n\n",
+             "cells: %d, of which %d were in matrix.csv already%s\n%s\n",
              o->argc_full ? cmd : o->argv_line, run_id_current(), mi->host, mi->cpu, mi->git_rev, mi->date, o->threads,
-             o->repeat, c->total, c->done, c->done ? (o->redo ? " (measured again: --redo)" : " (skipped)") : "");
+             o->repeat, c->total, c->done, c->done ? (o->redo ? " (measured again: --redo)" : " (skipped)") : "",
+             shard_line ? shard_line : "");
     if (!signals_begin_write()) signals_end_write();
     int rc = write_file_checked(info_path, "a", text, err, sizeof err);
     signals_end_write();
     if (rc == 0) return 0;
     fprintf(stderr, "accelbench: %s\n", err);
     return rc == -2 ? 2 : 1;
+}
+
+/* run --shard K/N: every cell of the whole matrix in the run loop's order
+ * (shard.h), its estimated cost (each scene loaded once for its primitives
+ * and lights, then freed), the split of all of them into N shards, and
+ * this shard's cells in *mine. The manifest goes to DIR/shard.txt; a folder
+ * whose shard.txt is of another shard or matrix is refused. Returns 0, or
+ * 1/2 after printing why. */
+static int plan_shard(const options *o, const rayset_t *replay, const char *out_dir, const machine_info *mi,
+                      unsigned char **mine, char *shard_line, size_t shard_line_len)
+{
+    int nw = replay ? 1 : o->nworkloads;
+    size_t nslots = (size_t)o->nscenes * (size_t)nw * (size_t)o->naccels;
+    shard_manifest m = {.k = o->shard_k, .n = o->shard_n};
+    snprintf(m.git_rev, sizeof m.git_rev, "%s", mi->git_rev);
+    char opts[16384], cmd[4096], err[4400], key[CELL_KEY_MAX];
+    shard_options_line(o, opts, sizeof opts);
+    cmd[0] = 0;
+    for (int i = 1; i < o->argc_full; i++) shell_word(cmd, sizeof cmd, o->argv_full[i]);
+    m.options = opts;
+    m.command = o->argc_full ? cmd : o->argv_line;
+    m.cells = calloc(nslots + 1, sizeof *m.cells);
+    double *cost = calloc(nslots + 1, sizeof *cost);
+    int *shard_of = calloc(nslots + 1, sizeof *shard_of);
+    size_t *slot = calloc(nslots + 1, sizeof *slot);
+    double *load = calloc((size_t)o->shard_n, sizeof *load);
+    *mine = calloc(nslots + 1, 1);
+    int status = 0;
+    if (!m.cells || !cost || !shard_of || !slot || !load || !*mine) {
+        fprintf(stderr, "accelbench: out of memory planning the shards\n");
+        status = 2;
+    }
+    for (int si = 0; si < o->nscenes && status == 0; si++) {
+        scene_t *s = scene_load(o->scenes[si], err, sizeof err);
+        if (!s) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            status = 2;
+            break;
+        }
+        uint64_t prims = s->prims.count;
+        uint32_t nlights = s->nlights;
+        scene_free(s);
+        for (int wi = 0; wi < nw && status == 0; wi++) {
+            query_kind q = replay ? replay->query : o->workloads[wi]->query;
+            uint64_t rays = replay ? replay->count : resources_workload(o->workloads[wi]->name, &o->wl, nlights).rays;
+            for (int ai = 0; ai < o->naccels && status == 0; ai++) {
+                const accel_config *ac = &o->accels[ai];
+                if (!accel_runs_workload(ac->ops, q)) continue;
+                if (run_cell_key(o, si, wi, ac, replay, key, sizeof key)) {
+                    status = 2;
+                    break;
+                }
+                int i = m.ncells++;
+                cost[i] = shard_cell_cost(ac->ops->name, prims, rays, o->repeat);
+                slot[i] = ((size_t)si * (size_t)nw + (size_t)wi) * (size_t)o->naccels + (size_t)ai;
+                m.cells[i] = (shard_cell){.index = i, .cost = cost[i], .key = strdup(key)};
+                if (!m.cells[i].key) status = 2;
+            }
+        }
+    }
+    if (status == 0 && shard_assign(cost, m.ncells, m.n, shard_of, load)) status = 2;
+    int ncells_mine = 0;
+    double total = 0;
+    for (int i = 0; i < m.ncells && status == 0; i++) {
+        m.cells[i].shard = shard_of[i] + 1;
+        total += cost[i];
+        if (shard_of[i] + 1 == m.k) (*mine)[slot[i]] = 1, ncells_mine++;
+    }
+    if (status == 0) {
+        /* A folder of another shard, or of another matrix, is refused before anything is written to it. */
+        char path[1200];
+        snprintf(path, sizeof path, "%s/%s", out_dir, SHARD_MANIFEST);
+        shard_manifest old;
+        int rc = shard_manifest_read(out_dir, &old, err, sizeof err);
+        if (rc < 0) {
+            fprintf(stderr, "accelbench: %s\n", err);
+            status = 2;
+        } else if (rc == 0) {
+            if (!shard_manifest_same_matrix(&old, &m)) {
+                fprintf(stderr, "accelbench: %s: this folder holds shard %d/%d of %s matrix; choose another --out\n", path,
+                        old.k, old.n, strcmp(old.options, m.options) || old.ncells != m.ncells ? "another" : "this");
+                status = 2;
+            }
+            shard_manifest_free(&old);
+        }
+        char *text = status == 0 ? shard_manifest_format(&m) : NULL;
+        if (status == 0 && !text) status = 2;
+        if (text) {
+            if (!signals_begin_write()) signals_end_write();
+            int w = write_file_checked(path, "w", text, err, sizeof err);
+            signals_end_write();
+            free(text);
+            if (w) {
+                fprintf(stderr, "accelbench: %s\n", err);
+                status = w == -2 ? 2 : 1;
+            }
+        }
+    }
+    if (status == 0) {
+        double largest = 0;
+        for (int k = 0; k < m.n; k++) largest = fmax(largest, load[k]);
+        snprintf(shard_line, shard_line_len,
+                 "shard: %d/%d: %d of the matrix's %d cells, estimated cost %.3g of %.3g (the largest shard %.3g; %s)\n",
+                 m.k, m.n, ncells_mine, m.ncells, load[m.k - 1], total, largest, SHARD_MANIFEST);
+        if (!o->quiet)
+            fprintf(stderr, "shard %d/%d: %d of the matrix's %d cells (estimated cost %.3g of %.3g)\n", m.k, m.n,
+                    ncells_mine, m.ncells, load[m.k - 1], total);
+    }
+    for (int i = 0; i < m.ncells; i++) free(m.cells[i].key);
+    free(m.cells);
+    free(cost);
+    free(shard_of);
+    free(slot);
+    free(load);
+    if (status) {
+        free(*mine);
+        *mine = NULL;
+    }
+    return status;
 }
 
 /* Measure one cell and file its row. Returns 0, 1 (a write failed) or 2. */
@@ -432,11 +558,14 @@ int matrix_run(options *o)
         rayset_free(replay);
         return status;
     }
-    run_cells cells;
-    status = plan_cells(o, store, rk, mi.git_rev, &cells);
+    run_cells cells = {0};
+    unsigned char *mine = NULL;
+    char shard_line[512] = "";
+    status = o->shard_n ? plan_shard(o, rk, out_dir, &mi, &mine, shard_line, sizeof shard_line) : 0;
+    if (status == 0) status = plan_cells(o, store, rk, mi.git_rev, mine, &cells);
     if (status == 0) {
         print_found(o, csv_path, &found, &cells);
-        status = write_run_info(o, info_path, &mi, &cells);
+        status = write_run_info(o, info_path, &mi, &cells, o->shard_n ? shard_line : NULL);
     }
 
     cell_settings settings = {.threads = o->threads, .repeat = o->repeat, .width = o->wl.width, .height = o->wl.height,
@@ -495,6 +624,7 @@ int matrix_run(options *o)
     signals_restore();
     rayset_free(replay);
     free(cells.state);
+    free(mine);
     if (!o->quiet && status == 0) {
         int skipped = index - measured;
         if (measured == 0 && cells.total > 0)
@@ -504,7 +634,7 @@ int matrix_run(options *o)
                     skipped ? ", the others done before" : "", (clock_ms() - wall0) / 1e3);
     }
     if (status == 1) fprintf(stderr, "accelbench: %s holds every cell finished before the failure\n", csv_path);
-    if (o->plots && status == 0) run_plot_script("plot.py", csv_path, o->quiet);
+    if (status == 0) run_dir_outputs(out_dir, csv_path, o->plots, o->quiet);
     return status;
 }
 

@@ -3,6 +3,7 @@
  * value, and returns 2. */
 #include "options.h"
 #include "resources.h"
+#include "shard.h"
 #include "verify.h"
 #include "../prims/checked_alloc.h"
 
@@ -14,7 +15,7 @@
 #include <unistd.h>
 
 enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
-       OPT_VIEW, OPT_REDO, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL };
+       OPT_VIEW, OPT_REDO, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL, OPT_SHARD };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -33,6 +34,7 @@ static const struct option long_opts[] = {
     {"memcap", required_argument, NULL, OPT_MEMCAP},
     {"redo", no_argument, NULL, OPT_REDO},
     {"warm-passes", no_argument, NULL, OPT_WARM_PASSES},
+    {"shard", required_argument, NULL, OPT_SHARD},
     {"shadow-accel", required_argument, NULL, OPT_SHADOW_ACCEL},
     {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
 };
@@ -93,6 +95,8 @@ void options_usage(FILE *out, const char *cmd)
                 "                          timed passes: they measure the structure the first pass grew, not its\n"
                 "                          growth (CSV timed_from=warm; default: every pass from the post-build state)\n"
                 "  --no-plots              do not call scripts/plot.py at the end\n"
+                "  --shard K/N             run only shard K of N (1 <= K <= N <= 4096): the matrix's cells, balanced by\n"
+                "                          estimated cost, in N disjoint shards; writes DIR/shard.txt for accelbench merge\n"
                 "  Every cell is verified against Embree as it runs; mismatch counts go in the CSV.\n"
                 "  SIGINT/SIGTERM abandon the cell in progress and print the command that resumes.\n"
                 "  Exit status: 0, 1 when a write failed (disk full ...), 2 on bad input, 128+N on signal N.\n");
@@ -291,6 +295,18 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             }
             o->warm_passes = true;
             break;
+        case OPT_SHARD: {
+            char why[256];
+            if (strcmp(cmd, "run") != 0) {
+                fprintf(stderr, "accelbench %s: --shard is an option of run (see accelbench run --help)\n", cmd);
+                return 2;
+            }
+            if (shard_parse(optarg, &o->shard_k, &o->shard_n, why, sizeof why)) {
+                fprintf(stderr, "accelbench: %s\n", why);
+                return 2;
+            }
+            break;
+        }
         case OPT_SHADOW_ACCEL:
             if (strcmp(cmd, "render") != 0) {
                 fprintf(stderr, "accelbench %s: --shadow-accel is an option of render (see accelbench render --help)\n", cmd);

@@ -33,6 +33,7 @@ typedef struct {
     bool plots;           /* run: call scripts/plot.py at the end */
     bool redo;            /* run --redo: measure cells the CSV already has again, replacing their rows (resume.h) */
     bool warm_passes;     /* run --warm-passes: timed passes of a resetting accelerator keep what earlier passes built */
+    int shard_k, shard_n; /* run --shard K/N: only shard K of N (shard.h); 0, 0 for the whole matrix */
     int argc_full;        /* main's argc and argv (set by main.c): run prints the command that resumes it */
     char **argv_full;
     const char *heatmap;  /* render: NULL, "tests" or "steps" */

@@ -50,3 +50,9 @@ void run_plot_script(const char *script, const char *csv_path, bool quiet)
     int rc = system(cmd);
     if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
 }
+
+void run_dir_outputs(const char *dir, const char *csv_path, bool plots, bool quiet)
+{
+    (void)dir;
+    if (plots) run_plot_script("plot.py", csv_path, quiet);
+}

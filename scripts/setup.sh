@@ -12,6 +12,7 @@ PACKAGES=(
     libassimp-dev libarchive-dev libpng-dev            # mesh loading, compressed files, PNG output
     python3-matplotlib                                 # plots from the CSV
     libcgal-demo glmark2-data occt-misc openfoam-examples  # benchmark meshes (bunny, dragon, head, motorbike ...)
+    slurmctld slurmd slurm-client munge                # a single-node Slurm for tests/test_slurm.sh (scripts/slurm/)
 )
 
 missing=()
