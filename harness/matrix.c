@@ -19,6 +19,7 @@
 #include "measure.h"
 #include "output.h"
 #include "resume.h"
+#include "run_outputs.h"
 #include "signals.h"
 #include "trace.h"
 #include "verify.h"
@@ -503,7 +504,9 @@ int matrix_run(options *o)
                     skipped ? ", the others done before" : "", (clock_ms() - wall0) / 1e3);
     }
     if (status == 1) fprintf(stderr, "accelbench: %s holds every cell finished before the failure\n", csv_path);
-    if (o->plots && status == 0) run_plot_script("plot.py", csv_path, o->quiet);
+    if (o->report && status == 0) {
+        if (run_dir_outputs(out_dir, o->quiet)) status = 1;
+    } else if (o->plots && status == 0) run_plot_script("plot.py", csv_path, o->quiet);
     return status;
 }
 

@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
-       OPT_VIEW, OPT_REDO, OPT_MEMCAP, OPT_SHADOW_ACCEL };
+       OPT_VIEW, OPT_REDO, OPT_MEMCAP, OPT_SHADOW_ACCEL, OPT_REPORT, OPT_HEATMAP_MAX };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -33,6 +33,7 @@ static const struct option long_opts[] = {
     {"memcap", required_argument, NULL, OPT_MEMCAP},
     {"redo", no_argument, NULL, OPT_REDO},
     {"shadow-accel", required_argument, NULL, OPT_SHADOW_ACCEL},
+    {"report", no_argument, NULL, OPT_REPORT}, {"heatmap-max", required_argument, NULL, OPT_HEATMAP_MAX},
     {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
 };
 
@@ -54,6 +55,8 @@ void options_usage(FILE *out, const char *cmd)
                 "  --shadow-accel A        answer the shadow rays through accelerator A (e.g. lightbuf, which answers\n"
                 "                          only those), every other ray through --accel (not with --heatmap)\n"
                 "  --heatmap tests|steps   write a per-pixel cost image of the primary rays instead\n"
+                "  --heatmap-max N         the heat map's colour scale runs 0..N (default: 0..the image's maximum;\n"
+                "                          one N for several accelerators puts them on the same scale)\n"
                 "  --res WxH               image size (default: the scene's view, e.g. 512x512)\n"
                 "  --spp N                 samples per pixel (default 1)\n"
                 "  --param ACCEL.KEY=VALUE accelerator parameter (see accelbench list accels)\n"
@@ -89,6 +92,7 @@ void options_usage(FILE *out, const char *cmd)
                 "                          and cells it already has with the same options are skipped (resumes a run)\n"
                 "  --redo                  measure those cells again, replacing their rows\n"
                 "  --no-plots              do not call scripts/plot.py at the end\n"
+                "  --report                also write DIR/report.html at the end (accelbench report --help)\n"
                 "  Every cell is verified against Embree as it runs; mismatch counts go in the CSV.\n"
                 "  SIGINT/SIGTERM abandon the cell in progress and print the command that resumes.\n"
                 "  Exit status: 0, 1 when a write failed (disk full ...), 2 on bad input, 128+N on signal N.\n");
@@ -273,6 +277,28 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         case OPT_RAYS: o->rays_file = optarg; break;
         case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
         case OPT_NO_PLOTS: o->plots = false; break;
+        case OPT_REPORT:
+            if (strcmp(cmd, "run") != 0) {
+                fprintf(stderr, "accelbench %s: --report is an option of run (see accelbench run --help)\n", cmd);
+                return 2;
+            }
+            o->report = true;
+            break;
+        case OPT_HEATMAP_MAX: {
+            char *end;
+            errno = 0;
+            double m = strtod(optarg, &end);
+            if (strcmp(cmd, "render") != 0) {
+                fprintf(stderr, "accelbench %s: --heatmap-max is an option of render (see accelbench render --help)\n", cmd);
+                return 2;
+            }
+            if (errno || end == optarg || *end || !(m > 0.0 && m <= 1e15)) {
+                fprintf(stderr, "accelbench: --heatmap-max %s: expected a number above 0\n", optarg);
+                return 2;
+            }
+            o->heatmap_max = m;
+            break;
+        }
         case OPT_REDO:
             if (strcmp(cmd, "run") != 0) {
                 fprintf(stderr, "accelbench %s: --redo is an option of run (see accelbench run --help)\n", cmd);
@@ -341,6 +367,10 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     }
     if (o->nscenes == 0) {
         fprintf(stderr, "accelbench %s: no scene given (--scenes LIST; see accelbench list scenes)\n", cmd);
+        return 2;
+    }
+    if (o->heatmap_max > 0 && !o->heatmap) {
+        fprintf(stderr, "accelbench render: --heatmap-max sets a heat map's scale: give --heatmap tests|steps too\n");
         return 2;
     }
     o->res_given = res_given;
