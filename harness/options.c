@@ -2,6 +2,7 @@
  * render (getopt_long). Every error is one line naming the option and the
  * value, and returns 2. */
 #include "options.h"
+#include "accel_spec.h"
 #include "resources.h"
 #include "verify.h"
 #include "../prims/checked_alloc.h"
@@ -385,19 +386,14 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         }
     }
 
-    /* Accelerators, then their parameters. */
-    const char *names[OPT_LIST_MAX];
-    char *dup = owned_copy(o, accels_arg);
-    int na = split(dup, names, OPT_LIST_MAX, "accelerators");
-    if (na < 0) return 2;
+    /* Accelerators, then their parameters: instances of NAME[k=v|w,...] expanded (accel_spec.h). */
+    char aerr[1024];
+    int na = accel_spec_expand(accels_arg, o->accels, OPT_LIST_MAX - 1, aerr, sizeof aerr);
+    if (na < 0) {
+        fprintf(stderr, "accelbench: %s\n", aerr);
+        return 2;
+    }
     for (int i = 0; i < na; i++) {
-        const struct accel_ops *ops = accel_find(names[i]);
-        if (!ops) {
-            fprintf(stderr, "accelbench: unknown accelerator '%s' (see: accelbench list accels)\n", names[i]);
-            return 2;
-        }
-        o->accels[i].ops = ops;
-        params_defaults(&o->accels[i].params, ops->params);
         o->accels[i].params.threads = o->threads;
         o->accels[i].params.seed = o->wl.seed; /* seeded builders (bvh-gs's shuffles) follow the ray sets' seed */
     }
@@ -457,15 +453,21 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         accel_settle_params(ac->ops, &ac->params); /* machine-dependent values (bvh's isa=auto) as they will run */
         params_format(&ac->params, ac->params_str, sizeof ac->params_str);
         /* Short label for tables: the name, plus [k=v,...] for the parameters that differ from the defaults. */
-        size_t n = (size_t)snprintf(ac->label, sizeof ac->label, "%s", ac->ops->name);
-        const char *sep = "[";
-        for (int k = 0; k < ac->params.count && n < sizeof ac->label; k++) {
-            if (strcmp(ac->params.values[k], ac->params.table[k].default_value) == 0) continue;
-            n += (size_t)snprintf(ac->label + n, sizeof ac->label - n, "%s%s=%s", sep, ac->params.table[k].name,
-                                  ac->params.values[k]);
-            sep = ",";
+        accel_config_label(ac, ac->label, sizeof ac->label);
+        for (int j = 0; j < i; j++)
+            if (o->accels[j].ops == ac->ops && !strcmp(o->accels[j].params_str, ac->params_str)) {
+                fprintf(stderr, "accelbench: --accels: %s is given twice (same parameters)\n", ac->label);
+                return 2;
+            }
+    }
+    /* A value only a build can judge (res=foo) is refused now, not at the first cell: each instance is built
+     * once on an 11-primitive scene. */
+    for (int i = 0; i < o->naccels; i++) {
+        char why[600];
+        if (accel_config_check(&o->accels[i], why, sizeof why)) {
+            fprintf(stderr, "accelbench: --accels %s: %s\n", o->accels[i].label, why);
+            return 2;
         }
-        if (*sep == ',' && n < sizeof ac->label) snprintf(ac->label + n, sizeof ac->label - n, "]");
     }
 
     /* Workloads. */
