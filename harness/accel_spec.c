@@ -6,7 +6,7 @@
 #include <string.h>
 #include "../scenes/scene.h"
 
-#define SPEC_KEYS 16
+#define SPEC_KEYS 64
 #define SPEC_VALUES 32
 
 typedef struct {

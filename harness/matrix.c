@@ -181,12 +181,12 @@ static void close_scene(scene_t *s, accel *ref, verifier_t *ver)
 
 /* The progress line of a measured cell, and its statistics on a line of
  * their own. */
-static void print_progress(int done, int total, const cell_result *cr)
+static void print_progress(int done, int total, const cell_result *cr, const char *label)
 {
     const csv_row *r = &cr->row;
     fprintf(stderr, "[%d/%d] %s %s %s: %u rays, build %.1f ms, trace %.2f ms (%.3f Mrays/s, %.2fx embree, pairs "
                     "%.2f-%.2f, %s), agree %llu, real mismatches %llu\n",
-            done, total, r->scene, r->accel, r->workload, r->rays, r->build_ms, r->trace_ms, r->mrays_per_s,
+            done, total, r->scene, label, r->workload, r->rays, r->build_ms, r->trace_ms, r->mrays_per_s,
             r->ratio_vs_embree, r->ratio_min, r->ratio_max, r->timed_path, (unsigned long long)r->agree,
             (unsigned long long)r->mismatch_real);
     if (r->nstats) {
@@ -379,7 +379,7 @@ static int run_one_cell(const options *o, results_store *store, const cell_rays 
         return 1;
     }
     signals_cell_done();
-    if (!o->quiet) print_progress(index, total, &cr);
+    if (!o->quiet) print_progress(index, total, &cr, ac->label);
     return 0;
 }
 

@@ -53,7 +53,7 @@ common.PROG = PROG
 num = common.num
 PICTURE_MAX_PRIMS = 100000
 PICTURE_MAX_SCENES = 10
-HEAT_SIDE = 128          # heat maps and pictures at most this many pixels a side
+HEAT_SIDE = 128          # heat maps and pictures: this many pixels on the longer side
 CLOSEST = ("primary", "reflection", "diffuse", "random", "whitted:eye", "whitted:reflected", "whitted:refracted")
 MISMATCH = ("real", "edge", "tol", "refwrong", "origin", "unjudged")
 
@@ -434,7 +434,7 @@ def heat_side(rows):
         w, h = (int(x) for x in res.split("x"))
     except ValueError:
         w, h = 128, 128
-    s = min(1.0, HEAT_SIDE / max(w, h))
+    s = HEAT_SIDE / max(w, h)  # the run's aspect, HEAT_SIDE pixels on its longer side
     return max(8, int(w * s)), max(8, int(h * s))
 
 
