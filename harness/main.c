@@ -6,6 +6,7 @@
  *   accelbench verify  --scenes L --accels L --workloads L [...]   agreement with Embree
  *   accelbench render  --scene S --accel A --out FILE.png [...]    image or cost heat map
  *   accelbench reproduce woo92 [--out DIR] [--quick] [...]          a paper's tables with our numbers
+ *   accelbench report RUN_DIR [--out FILE.html]                     the run folder as one HTML page
  *
  * Exit status: 0 success, 1 verify found a real mismatch or run could not
  * write its results, 2 bad input, 128+N when run stopped on signal N. */
@@ -16,6 +17,7 @@
 #include "options.h"
 #include "render.h"
 #include "reproduce.h"
+#include "run_outputs.h"
 #include "scene_cmd.h"
 #include "version.h"
 
@@ -31,6 +33,7 @@ static void usage(FILE *out)
             "  verify   every ray's answer against Embree; mismatches classified and replayable\n"
             "  render   a shaded image or a per-pixel cost heat map through one accelerator\n"
             "  reproduce woo92   Woo 1992's Tables 1-4 and an ablation, re-run: our numbers, verified\n"
+            "  report   RUN_DIR: one self-contained HTML page of a run folder (table, plots, heat maps, fits)\n"
             "  scene    info SCENE (counts, bounds, view, hash) | export SCENE --nff FILE\n"
             "  version  the build's git revision\n"
             "\n"
@@ -97,6 +100,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "scene")) return scene_cmd_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "reproduce")) return reproduce_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "merge")) return merge_main(argc - 1, argv + 1);
+    if (!strcmp(cmd, "report")) return report_main(argc - 1, argv + 1);
     int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? matrix_verify
                                                             : !strcmp(cmd, "render") ? render_main : NULL;
     if (!run) {

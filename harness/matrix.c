@@ -21,6 +21,7 @@
 #include "resources.h"
 #include "resume.h"
 #include "shard.h"
+#include "run_outputs.h"
 #include "signals.h"
 #include "trace.h"
 #include "verify.h"
@@ -182,12 +183,12 @@ static void close_scene(scene_t *s, accel *ref, verifier_t *ver)
 
 /* The progress line of a measured cell, and its statistics on a line of
  * their own. */
-static void print_progress(int done, int total, const cell_result *cr)
+static void print_progress(int done, int total, const cell_result *cr, const char *label)
 {
     const csv_row *r = &cr->row;
     fprintf(stderr, "[%d/%d] %s %s %s: %u rays, build %.1f ms, trace %.2f ms (%.3f Mrays/s, %.2fx embree, pairs "
                     "%.2f-%.2f, %s), agree %llu, real mismatches %llu\n",
-            done, total, r->scene, r->accel, r->workload, r->rays, r->build_ms, r->trace_ms, r->mrays_per_s,
+            done, total, r->scene, label, r->workload, r->rays, r->build_ms, r->trace_ms, r->mrays_per_s,
             r->ratio_vs_embree, r->ratio_min, r->ratio_max, r->timed_path, (unsigned long long)r->agree,
             (unsigned long long)r->mismatch_real);
     if (r->nstats) {
@@ -505,7 +506,7 @@ static int run_one_cell(const options *o, results_store *store, const cell_rays 
         return 1;
     }
     signals_cell_done();
-    if (!o->quiet) print_progress(index, total, &cr);
+    if (!o->quiet) print_progress(index, total, &cr, ac->label);
     return 0;
 }
 
@@ -634,7 +635,9 @@ int matrix_run(options *o)
                     skipped ? ", the others done before" : "", (clock_ms() - wall0) / 1e3);
     }
     if (status == 1) fprintf(stderr, "accelbench: %s holds every cell finished before the failure\n", csv_path);
-    if (status == 0) run_dir_outputs(out_dir, csv_path, o->plots, o->quiet);
+    if (o->report && status == 0) {
+        if (run_dir_outputs(out_dir, o->quiet)) status = 1;
+    } else if (o->plots && status == 0) run_plot_script("plot.py", csv_path, o->quiet);
     return status;
 }
 

@@ -15,7 +15,7 @@
  * enumeration order, each row's bytes as its shard wrote them, so the file
  * is a function of the shards' rows alone), through a temporary file
  * renamed into place; OUT/merge.txt (the folders, the matrix, each shard's
- * run.txt); then run_dir_outputs (the plots), as run does. */
+ * run.txt); then run_dir_outputs (the plots and the report), as run --report does. */
 #include "merge.h"
 
 #include <errno.h>
@@ -26,6 +26,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "cellkey.h"
+#include "run_outputs.h"
 #include "csv.h"
 #include "output.h"
 #include "resume.h"
@@ -39,7 +40,7 @@ static void merge_usage(FILE *out)
             "  Merge the folders of run --shard K/N (each with shard.txt and matrix.csv) into one matrix.csv,\n"
             "  rows in the matrix's cell order, then write the plots as run does.\n"
             "  --out DIR                the merged folder (created; its matrix.csv and merge.txt are replaced)\n"
-            "  --no-plots               do not call scripts/plot.py at the end\n"
+            "  --no-plots               write neither the plots (scripts/plot.py) nor the report (report.html)\n"
             "  --quiet                  no summary line\n"
             "  --allow-mixed-revisions  accept rows measured by different git revisions (listed as a warning)\n"
             "  Exit status: 0, 1 when a write failed, 2 when a folder is missing or malformed, the shards\n"
@@ -378,7 +379,8 @@ int merge_main(int argc, char **argv)
     if (!status && !quiet)
         fprintf(stderr, "merged %d cells of %d shards into %s%s\n", ncells, m0->n, csv_path,
                 torn ? " (torn rows dropped: their cells were found in other rows)" : "");
-    if (!status) run_dir_outputs(out_dir, csv_path, plots, quiet);
+    /* The plots and the report, as run --report writes them (run_outputs.h). */
+    if (!status && plots && run_dir_outputs(out_dir, quiet)) status = 1;
 
     for (int i = 0; i < nd; i++) {
         shard_manifest_free(&d[i].m);

@@ -2,6 +2,7 @@
  * render (getopt_long). Every error is one line naming the option and the
  * value, and returns 2. */
 #include "options.h"
+#include "accel_spec.h"
 #include "resources.h"
 #include "shard.h"
 #include "verify.h"
@@ -15,7 +16,7 @@
 #include <unistd.h>
 
 enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
-       OPT_VIEW, OPT_REDO, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL, OPT_SHARD };
+       OPT_VIEW, OPT_REDO, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL, OPT_SHARD, OPT_REPORT, OPT_HEATMAP_MAX };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -36,6 +37,7 @@ static const struct option long_opts[] = {
     {"warm-passes", no_argument, NULL, OPT_WARM_PASSES},
     {"shard", required_argument, NULL, OPT_SHARD},
     {"shadow-accel", required_argument, NULL, OPT_SHADOW_ACCEL},
+    {"report", no_argument, NULL, OPT_REPORT}, {"heatmap-max", required_argument, NULL, OPT_HEATMAP_MAX},
     {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0},
 };
 
@@ -57,6 +59,8 @@ void options_usage(FILE *out, const char *cmd)
                 "  --shadow-accel A        answer the shadow rays through accelerator A (e.g. lightbuf, which answers\n"
                 "                          only those), every other ray through --accel (not with --heatmap)\n"
                 "  --heatmap tests|steps   write a per-pixel cost image of the primary rays instead\n"
+                "  --heatmap-max N         the heat map's colour scale runs 0..N (default: 0..the image's maximum;\n"
+                "                          one N for several accelerators puts them on the same scale)\n"
                 "  --res WxH               image size (default: the scene's view, e.g. 512x512)\n"
                 "  --spp N                 samples per pixel (default 1)\n"
                 "  --param ACCEL.KEY=VALUE accelerator parameter (see accelbench list accels)\n"
@@ -97,6 +101,7 @@ void options_usage(FILE *out, const char *cmd)
                 "  --no-plots              do not call scripts/plot.py at the end\n"
                 "  --shard K/N             run only shard K of N (1 <= K <= N <= 4096): the matrix's cells, balanced by\n"
                 "                          estimated cost, in N disjoint shards; writes DIR/shard.txt for accelbench merge\n"
+                "  --report                also write DIR/report.html at the end (accelbench report --help)\n"
                 "  Every cell is verified against Embree as it runs; mismatch counts go in the CSV.\n"
                 "  SIGINT/SIGTERM abandon the cell in progress and print the command that resumes.\n"
                 "  Exit status: 0, 1 when a write failed (disk full ...), 2 on bad input, 128+N on signal N.\n");
@@ -281,6 +286,28 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         case OPT_RAYS: o->rays_file = optarg; break;
         case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
         case OPT_NO_PLOTS: o->plots = false; break;
+        case OPT_REPORT:
+            if (strcmp(cmd, "run") != 0) {
+                fprintf(stderr, "accelbench %s: --report is an option of run (see accelbench run --help)\n", cmd);
+                return 2;
+            }
+            o->report = true;
+            break;
+        case OPT_HEATMAP_MAX: {
+            char *end;
+            errno = 0;
+            double m = strtod(optarg, &end);
+            if (strcmp(cmd, "render") != 0) {
+                fprintf(stderr, "accelbench %s: --heatmap-max is an option of render (see accelbench render --help)\n", cmd);
+                return 2;
+            }
+            if (errno || end == optarg || *end || !(m > 0.0 && m <= 1e15)) {
+                fprintf(stderr, "accelbench: --heatmap-max %s: expected a number above 0\n", optarg);
+                return 2;
+            }
+            o->heatmap_max = m;
+            break;
+        }
         case OPT_REDO:
             if (strcmp(cmd, "run") != 0) {
                 fprintf(stderr, "accelbench %s: --redo is an option of run (see accelbench run --help)\n", cmd);
@@ -370,6 +397,10 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         fprintf(stderr, "accelbench %s: no scene given (--scenes LIST; see accelbench list scenes)\n", cmd);
         return 2;
     }
+    if (o->heatmap_max > 0 && !o->heatmap) {
+        fprintf(stderr, "accelbench render: --heatmap-max sets a heat map's scale: give --heatmap tests|steps too\n");
+        return 2;
+    }
     o->res_given = res_given;
     if (o->view) add_view(o);
     /* An absent repository mesh or a bad view fails now, not after the
@@ -382,19 +413,14 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         }
     }
 
-    /* Accelerators, then their parameters. */
-    const char *names[OPT_LIST_MAX];
-    char *dup = owned_copy(o, accels_arg);
-    int na = split(dup, names, OPT_LIST_MAX, "accelerators");
-    if (na < 0) return 2;
+    /* Accelerators, then their parameters: instances of NAME[k=v|w,...] expanded (accel_spec.h). */
+    char aerr[1024];
+    int na = accel_spec_expand(accels_arg, o->accels, OPT_LIST_MAX - 1, aerr, sizeof aerr);
+    if (na < 0) {
+        fprintf(stderr, "accelbench: %s\n", aerr);
+        return 2;
+    }
     for (int i = 0; i < na; i++) {
-        const struct accel_ops *ops = accel_find(names[i]);
-        if (!ops) {
-            fprintf(stderr, "accelbench: unknown accelerator '%s' (see: accelbench list accels)\n", names[i]);
-            return 2;
-        }
-        o->accels[i].ops = ops;
-        params_defaults(&o->accels[i].params, ops->params);
         o->accels[i].params.threads = o->threads;
         o->accels[i].params.seed = o->wl.seed; /* seeded builders (bvh-gs's shuffles) follow the ray sets' seed */
     }
@@ -454,15 +480,21 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         accel_settle_params(ac->ops, &ac->params); /* machine-dependent values (bvh's isa=auto) as they will run */
         params_format(&ac->params, ac->params_str, sizeof ac->params_str);
         /* Short label for tables: the name, plus [k=v,...] for the parameters that differ from the defaults. */
-        size_t n = (size_t)snprintf(ac->label, sizeof ac->label, "%s", ac->ops->name);
-        const char *sep = "[";
-        for (int k = 0; k < ac->params.count && n < sizeof ac->label; k++) {
-            if (strcmp(ac->params.values[k], ac->params.table[k].default_value) == 0) continue;
-            n += (size_t)snprintf(ac->label + n, sizeof ac->label - n, "%s%s=%s", sep, ac->params.table[k].name,
-                                  ac->params.values[k]);
-            sep = ",";
+        accel_config_label(ac, ac->label, sizeof ac->label);
+        for (int j = 0; j < i; j++)
+            if (o->accels[j].ops == ac->ops && !strcmp(o->accels[j].params_str, ac->params_str)) {
+                fprintf(stderr, "accelbench: --accels: %s is given twice (same parameters)\n", ac->label);
+                return 2;
+            }
+    }
+    /* A value only a build can judge (res=foo) is refused now, not at the first cell: each instance is built
+     * once on an 11-primitive scene. */
+    for (int i = 0; i < o->naccels; i++) {
+        char why[600];
+        if (accel_config_check(&o->accels[i], why, sizeof why)) {
+            fprintf(stderr, "accelbench: --accels %s: %s\n", o->accels[i].label, why);
+            return 2;
         }
-        if (*sep == ',' && n < sizeof ac->label) snprintf(ac->label + n, sizeof ac->label - n, "]");
     }
 
     /* Workloads. */

@@ -31,6 +31,8 @@ typedef struct {
     const char *save_rays;
     long ray_index;       /* verify --ray I, or -1 */
     bool plots;           /* run: call scripts/plot.py at the end */
+    bool report;          /* run --report: plots and report.html at the end (run_outputs.h) */
+    double heatmap_max;   /* render --heatmap-max N: the colour scale's top (0: the image's own maximum) */
     bool redo;            /* run --redo: measure cells the CSV already has again, replacing their rows (resume.h) */
     bool warm_passes;     /* run --warm-passes: timed passes of a resetting accelerator keep what earlier passes built */
     int shard_k, shard_n; /* run --shard K/N: only shard K of N (shard.h); 0, 0 for the whole matrix */

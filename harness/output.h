@@ -18,9 +18,4 @@ int output_folder(const char *given, const char *prefix, char *out, size_t outle
  * Debian's python3-matplotlib); a failure is a warning, the CSV stands. */
 void run_plot_script(const char *script, const char *csv_path, bool quiet);
 
-/* What a results folder gets once its matrix.csv is whole, for run and
- * merge alike: the plots (scripts/plot.py, when plots), and whatever other
- * outputs of a folder join them (one place to add them). */
-void run_dir_outputs(const char *dir, const char *csv_path, bool plots, bool quiet);
-
 #endif

@@ -118,13 +118,14 @@ static int render_heatmap(const options *o, const scene_t *s, accel *a, const ra
         mean += cost[i] / (double)npix;
     }
     image_t *im = image_new((int)prim->width, (int)prim->height);
-    for (size_t i = 0; i < npix; i++) colormap_inferno(hi > 0 ? (float)(cost[i] / hi) : 0.0f, &im->rgb[i * 3]);
+    double top = o->heatmap_max > 0 ? o->heatmap_max : hi; /* --heatmap-max: one scale for several images */
+    for (size_t i = 0; i < npix; i++) colormap_inferno(top > 0 ? (float)fmin(1.0, cost[i] / top) : 0.0f, &im->rgb[i * 3]);
     char err[512];
     int rc = image_write_png(im, o->out, err, sizeof err);
     if (rc) fprintf(stderr, "accelbench: %s\n", err);
     else if (!o->quiet)
-        printf("wrote %s: %s per pixel through %s on %s: min %.1f mean %.1f max %.1f (colour scale 0..max)\n", o->out,
-               o->heatmap, a->ops->name, s->name, lo, mean, hi);
+        printf("wrote %s: %s per pixel through %s on %s: min %.1f mean %.1f max %.1f (colour scale 0..%s%.6g)\n", o->out,
+               o->heatmap, a->ops->name, s->name, lo, mean, hi, o->heatmap_max > 0 ? "" : "max ", top);
     image_free(im);
     free(cost);
     answers_free(ans);

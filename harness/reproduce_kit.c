@@ -3,6 +3,7 @@
  * stand-ins, measurements made once and reused, the report's file, the
  * plot script and the verification table. */
 #include "reproduce_kit.h"
+#include "accel_spec.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -290,20 +291,15 @@ static void add_cell(rp_kit *k, meas *m, int i, const cell_result *cr, const cha
 meas *rp_measure(rp_kit *k, const char *table, const char *variant, const char *name, const char *settings)
 {
     accel_config ac;
-    char err[512];
-    memset(&ac, 0, sizeof ac);
-    ac.ops = accel_find(name);
-    if (!ac.ops) {
-        fprintf(stderr, "accelbench: reproduce: accelerator '%s' is not built in\n", name);
+    char err[1024], spec[1200];
+    /* The variant goes through --accels' parser (accel_spec.h): NAME[k=v,...], exactly one instance. */
+    snprintf(spec, sizeof spec, settings && *settings ? "%s[%s]" : "%s", name, settings);
+    if (accel_spec_expand(spec, &ac, 1, err, sizeof err) != 1) {
+        fprintf(stderr, "accelbench: reproduce: %s\n", err);
         return NULL;
     }
-    params_defaults(&ac.params, ac.ops->params);
     ac.params.threads = k->timed_threads;
     if (resources_bound_memcap_param(ac.ops->name, &ac.params)) return NULL; /* its memcap within --memcap */
-    if (params_set_list(&ac.params, settings, err, sizeof err)) {
-        fprintf(stderr, "accelbench: reproduce: %s.%s\n", name, err);
-        return NULL;
-    }
     accel_settle_params(ac.ops, &ac.params); /* machine-dependent values as they will run */
     params_format(&ac.params, ac.params_str, sizeof ac.params_str);
     snprintf(ac.label, sizeof ac.label, "%s", name);

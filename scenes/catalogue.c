@@ -186,6 +186,10 @@ static const scene_set sets[] = {
      "spd:jacks:2,spd:jacks:3,spd:jacks:4,spd:jacks:5,spd:jacks:6"},
     {"set:scaling:balls-t", "sphereflake sizes 2..5 tessellated at RES 3 (9,830 to 7,174,442 triangles)",
      "spd:balls:2:t,spd:balls:3:t,spd:balls:4:t,spd:balls:5:t"},
+    {"set:scaling:tree", "tree sizes 4..16 by 2 (63 to 262,143 primitives: spheres and cones)",
+     "spd:tree:4,spd:tree:6,spd:tree:8,spd:tree:10,spd:tree:12,spd:tree:14,spd:tree:16"},
+    {"set:scaling:rings", "rings sizes 1..12 (61 to 39,001 primitives: spheres and cones)",
+     "spd:rings:1,spd:rings:2,spd:rings:3,spd:rings:4,spd:rings:6,spd:rings:8,spd:rings:10,spd:rings:12"},
 };
 #define SETS_N (sizeof sets / sizeof sets[0])
 

@@ -1,7 +1,8 @@
 #!/bin/bash
 # bench.sh: the default benchmark matrix. Installs and builds (setup.sh),
 # then runs every accelerator on the default scenes and all five workloads,
-# writing results/<date-time>/matrix.csv, run.txt and PNG plots.
+# writing results/<date-time>/matrix.csv, run.txt, PNG plots and report.html
+# (accelbench report: one self-contained page with the table, plots and heat maps).
 #
 # Exhaustive search is quadratic in practice (every ray tests every
 # primitive), and ray classification rebuilds itself on every pass (below),
@@ -22,5 +23,5 @@ LARGE=${LARGE:-bunny,head}
 # random rays: 42 s a pass). Both run on the small scenes.
 FAST=$($AB list accels | awk '/^  [a-z]/ && $1 != "exhaustive" && $1 != "raycls" {printf "%s%s", sep, $1; sep=","}')
 $AB run --scenes "$SMALL" --res 128x128 --repeat 5 --out "$OUT" --no-plots "$@"
-$AB run --scenes "$LARGE" --accels "$FAST" --res 128x128 --repeat 5 --out "$OUT" "$@"
-echo "bench: results in $OUT"
+$AB run --scenes "$LARGE" --accels "$FAST" --res 128x128 --repeat 5 --out "$OUT" --report "$@"
+echo "bench: results in $OUT (the report: $OUT/report.html)"

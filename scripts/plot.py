@@ -10,8 +10,10 @@ Once per file:
   overview__ratio.png     ratio_vs_embree, geometric mean over workloads,
                           scene x accelerator heat map (>1 = slower than Embree)
 
-Bars are labelled "accel", or "accel[params]" when an accel has several
-params strings in the file (keys shared by all of them dropped), plus
+Bars are labelled "accel", or "accel[params]" with the parameters that
+differ from the defaults (read from `$ACCELBENCH list accels`; run sets
+$ACCELBENCH), or without it when an accel has several params strings in
+the file (keys shared by all of them dropped), plus
 "@<n>t" when it ran with several thread counts. Rows with fewer fields than
 the header (interrupted run) are skipped with a warning. A cell measured
 more than once (rows of one cell_key; in files without that column, of one
@@ -123,8 +125,49 @@ def short_params(params, siblings, limit=MAX_PARAMS):
     return text if limit is None or len(text) <= limit else text[:limit - 1] + "…"
 
 
-def config_labels(rows, limit=MAX_PARAMS):
-    """Map each (accel, params, threads) config to a unique display label (params cut to limit characters)."""
+def parse_accel_defaults(text):
+    """{accel: {key: default}} from the text of `accelbench list accels`."""
+    defaults, name = {}, None
+    for line in text.splitlines():
+        m = re.match(r"^  ([a-z][\w-]*) ", line)
+        if m:
+            name = m.group(1)
+            defaults[name] = {}
+            continue
+        m = re.match(r"^ {19}(\w+)=(\S*)  ", line)
+        if m and name:
+            defaults[name][m.group(1)] = m.group(2)
+    return defaults
+
+
+def accel_defaults_from_env():
+    """The parameters' defaults from the accelbench binary named by $ACCELBENCH (run sets it), else {}."""
+    binary = os.environ.get("ACCELBENCH")
+    if not binary or not os.access(binary, os.X_OK):
+        return {}
+    import subprocess
+    try:
+        text = subprocess.run([binary, "list", "accels"], capture_output=True, text=True, timeout=30).stdout
+    except (OSError, subprocess.SubprocessError):
+        return {}
+    return parse_accel_defaults(text)
+
+
+def default_label(accel, params, defaults, limit):
+    """'grid[res=40x40x40]': the name and the parameters that differ from the defaults (None: defaults unknown)."""
+    d = defaults.get(accel)
+    if d is None:
+        return None
+    diff = ",".join(kv for kv in split_params(params) if d.get(kv.partition("=")[0]) != kv.partition("=")[2])
+    if limit is not None and len(diff) > limit:
+        diff = diff[:limit - 1] + "…"
+    return f"{accel}[{diff}]" if diff else accel
+
+
+def config_labels(rows, limit=MAX_PARAMS, defaults=None):
+    """Map each (accel, params, threads) config to a unique display label (params cut to limit characters):
+    with defaults ({accel: {key: default}}, parse_accel_defaults), the name and the parameters that differ from
+    them; without, the name and, when an accel has several params strings, those not shared by all of them."""
     params_of, threads_of = {}, {}
     for r in rows:
         accel, params, threads = config_key(r)
@@ -133,9 +176,11 @@ def config_labels(rows, limit=MAX_PARAMS):
     labels = {}
     for key in ordered(config_key(r) for r in rows):
         accel, params, threads = key
-        label = accel
-        if len(params_of[accel]) > 1:
-            label += f"[{short_params(params, params_of[accel], limit)}]"
+        label = default_label(accel, params, defaults or {}, limit)
+        if label is None:
+            label = accel
+            if len(params_of[accel]) > 1:
+                label += f"[{short_params(params, params_of[accel], limit)}]"
         if len(threads_of[(accel, params)]) > 1:
             label += f"@{threads}t"
         while label in labels.values():
@@ -386,7 +431,7 @@ def main(argv=None):
     if not rows:
         return 0
     rows = dedup_rows(rows, args.csv)
-    labels = config_labels(rows)
+    labels = config_labels(rows, defaults=accel_defaults_from_env())
     workloads = ordered((r["workload"] for r in rows), WORKLOAD_ORDER)
     scenes = ordered(r["scene"] for r in rows)
     written, stems = [], set()

@@ -10,7 +10,8 @@ PACKAGES=(
     libembree-dev                                      # Embree 3: reference and speed bar
     libcgal-dev libgmp-dev libmpfr-dev                 # CGAL: the exact judge of verify and the cgal-aabb peer
     libassimp-dev libarchive-dev libpng-dev            # mesh loading, compressed files, PNG output
-    python3-matplotlib                                 # plots from the CSV
+    python3-matplotlib python3-numpy                   # plots from the CSV, the report's fits (scripts/report.py)
+    chromium                                           # the report's browser test (tests/test_report_browser.sh)
     libcgal-demo glmark2-data occt-misc openfoam-examples  # benchmark meshes (bunny, dragon, head, motorbike ...)
     slurmctld slurmd slurm-client munge                # a single-node Slurm for tests/test_slurm.sh (scripts/slurm/)
 )

@@ -771,7 +771,7 @@ static void test_sets(void)
           strstr(out, "spd:jacks:6") && strstr(out, "spd:gears:12,") && strstr(out, ",spd:balls:5:t"));
     int n = 1;
     for (const char *c = out; *c; c++) n += *c == ',';
-    CHECK_MSG(n == 6 + 6 + 6 + 11 + 5 + 4, "set:scaling has %d names", n);
+    CHECK_MSG(n == 6 + 6 + 6 + 11 + 5 + 4 + 7 + 8, "set:scaling has %d names", n);
     CHECK(scene_set_expand("bunny", out, sizeof out) == 0);
     CHECK(scene_set_expand("set:nope", out, sizeof out) == 0);
     CHECK(scene_set_expand("set:spd", out, 10) == -1 && out[0] == '\0');

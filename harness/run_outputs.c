@@ -1,0 +1,140 @@
+/* run_outputs.c: a run folder's plots and HTML report (see run_outputs.h). */
+#include "run_outputs.h"
+#include "output.h"
+
+#ifndef ACCELBENCH_SOURCE_DIR
+#define ACCELBENCH_SOURCE_DIR "."
+#endif
+#include <errno.h>
+#include <getopt.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static bool is_dir(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/* Run argv (no shell: paths may hold any character); its exit status, or -1. */
+static int spawn_wait(char *const argv[])
+{
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid < 0) return -1;
+    if (pid == 0) {
+        execv(argv[0], argv);
+        fprintf(stderr, "accelbench: cannot run %s: %s\n", argv[0], strerror(errno));
+        _exit(127);
+    }
+    int st;
+    while (waitpid(pid, &st, 0) < 0)
+        if (errno != EINTR) return -1;
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+int report_write(const char *dir, const char *out_html, const char *pictures, bool quiet)
+{
+    char csv[PATH_MAX], out[PATH_MAX], script[PATH_MAX], self[PATH_MAX];
+    if (!is_dir(dir)) {
+        fprintf(stderr, "accelbench report: %s: no such folder\n", dir);
+        return 2;
+    }
+    snprintf(csv, sizeof csv, "%s/matrix.csv", dir);
+    if (access(csv, R_OK) != 0) {
+        fprintf(stderr, "accelbench report: %s: %s (not a run folder?)\n", csv, strerror(errno));
+        return 2;
+    }
+    if (out_html) snprintf(out, sizeof out, "%s", out_html);
+    else snprintf(out, sizeof out, "%s/report.html", dir);
+    /* The page's folder must exist: the report writes one file, it makes no folders. */
+    char parent[PATH_MAX];
+    snprintf(parent, sizeof parent, "%s", out);
+    char *slash = strrchr(parent, '/');
+    if (slash && slash != parent) {
+        *slash = 0;
+        if (!is_dir(parent)) {
+            fprintf(stderr, "accelbench report: --out %s: no such folder %s\n", out, parent);
+            return 2;
+        }
+    }
+    snprintf(script, sizeof script, "%s/scripts/report.py", ACCELBENCH_SOURCE_DIR);
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    self[n > 0 ? n : 0] = 0;
+    char *argv[] = {"/usr/bin/python3", script, (char *)dir, "--out", out, "--accelbench", self, "--pictures",
+                    (char *)pictures, quiet ? "--quiet" : NULL, NULL};
+    int rc = spawn_wait(argv);
+    if (rc == 0) return 0;
+    fprintf(stderr, "accelbench: warning: the report failed (exit %d); the CSV is complete: %s\n", rc, csv);
+    return rc == 2 ? 2 : 1;
+}
+
+int run_dir_outputs(const char *dir, bool quiet)
+{
+    char csv[PATH_MAX];
+    snprintf(csv, sizeof csv, "%s/matrix.csv", dir);
+    run_plot_script("plot.py", csv, quiet);
+    return report_write(dir, NULL, "auto", quiet) ? 1 : 0;
+}
+
+static void report_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: accelbench report RUN_DIR [--out FILE.html] [--pictures auto|on|off] [--quiet]\n"
+            "  One self-contained HTML page of a run folder (images embedded): machine, revision, threads and\n"
+            "  command; a sortable table of every cell coloured by its ratio to Embree; the plots; per-scene\n"
+            "  heat maps of primary-ray cost on one colour scale and a picture of each scene; cost growth fitted\n"
+            "  on scaling series (spd:FAMILY:N); real mismatches with their verify commands; reproduce findings.\n"
+            "  --out FILE.html         where to write it (default RUN_DIR/report.html)\n"
+            "  --pictures auto|on|off  render heat maps and pictures with this build (auto: scenes of at most\n"
+            "                          100000 primitives; each costs one build per accelerator, default auto)\n"
+            "  --quiet                 do not print what was written\n"
+            "  Exit status: 0, 1 when the page could not be written, 2 on bad input.\n");
+}
+
+int report_main(int argc, char **argv)
+{
+    static const struct option opts[] = {{"out", required_argument, NULL, 'o'},
+                                         {"pictures", required_argument, NULL, 'p'},
+                                         {"quiet", no_argument, NULL, 'q'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    const char *out = NULL, *pictures = "auto";
+    bool quiet = false;
+    int c;
+    optind = 1;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "hq", opts, NULL)) != -1) {
+        switch (c) {
+        case 'o': out = optarg; break;
+        case 'p':
+            if (strcmp(optarg, "auto") && strcmp(optarg, "on") && strcmp(optarg, "off")) {
+                fprintf(stderr, "accelbench report: --pictures %s: expected auto, on or off\n", optarg);
+                return 2;
+            }
+            pictures = optarg;
+            break;
+        case 'q': quiet = true; break;
+        case 'h': report_usage(stdout); return 0;
+        default:
+            fprintf(stderr, "accelbench report: unknown or incomplete option '%s' (see accelbench report --help)\n",
+                    argv[optind - 1]);
+            return 2;
+        }
+    }
+    if (optind >= argc) {
+        fprintf(stderr, "accelbench report: no run folder given (accelbench report RUN_DIR; see --help)\n");
+        return 2;
+    }
+    if (optind + 1 < argc) {
+        fprintf(stderr, "accelbench report: unexpected argument '%s' (one run folder; see --help)\n", argv[optind + 1]);
+        return 2;
+    }
+    return report_write(argv[optind], out, pictures, quiet);
+}
