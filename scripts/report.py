@@ -552,8 +552,11 @@ def scaling_plot(fam, data, labels_order, workloads):
         ax.grid(alpha=0.3, which="both")
     for ax in list(axes.flat)[len(panels):]:
         ax.axis("off")
-    handles, names = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, names, loc="center right", fontsize=8)
+    legend = {}
+    for ax in axes.flat:  # every accelerator once, also those missing from the first panel (lightbuf)
+        for h, n in zip(*ax.get_legend_handles_labels()):
+            legend.setdefault(n, h)
+    fig.legend(list(legend.values()), list(legend), loc="center right", fontsize=8)
     fig.suptitle(f"spd:{fam}: cost against size, log-log, fitted y = c N^k", fontsize=11)
     fig.tight_layout(rect=(0, 0, 1 - 1.9 / (4.3 * ncol + 2.2), 0.95))
     buf = io.BytesIO()
@@ -567,7 +570,7 @@ def exponent_plot(fam, data, labels_order, workloads):
     keys = [("time", w) for w in workloads] + [("tests", w) for w in workloads] + [("build", None), ("memory", None)]
     keys = [k for k in keys if any((k[0], l, k[1]) in data["fits"] for l in labels_order)]
     labs = [l for l in labels_order if any((k[0], l, k[1]) in data["fits"] for k in keys)]
-    fig, ax = plt.subplots(figsize=(9, 0.45 * len(labs) * max(1, len(keys)) ** 0.5 + 1.8))
+    fig, ax = plt.subplots(figsize=(9, 0.22 * len(labs) * max(1, len(keys)) ** 0.5 + 1.6))
     step = 0.8 / max(1, len(keys))
     for j, (metric, wl) in enumerate(keys):
         ys, xs, lo, hi = [], [], [], []
