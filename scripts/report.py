@@ -411,21 +411,27 @@ def section_plots(rows, folder, names):
     return "\n".join(out)
 
 
-def render_args(binary, scene, accel, params, defaults):
-    """accelbench render's arguments for one scene and accelerator configuration."""
-    args = [binary, "render"]
+def scene_args(option, scene):
+    """[option, scene], or [option, base, --view, spec] for SCENE@eye=... (a view's commas cannot go in a list)."""
     if "@" in scene and "=" in scene.split("@", 1)[1]:
         base, view = scene.split("@", 1)
-        args += ["--scene", base, "--view", view]
-    else:
-        args += ["--scene", scene]
-    args += ["--accel", accel]
-    d = defaults.get(accel, {})
+        return [option, base, "--view", view]
+    return [option, scene]
+
+
+def param_args(accel, params, defaults):
+    """--param ACCEL.KEY=VALUE for every parameter that differs from the defaults (every one when they are unknown)."""
+    d, args = defaults.get(accel, {}), []
     for kv in common.split_params(params):
         k, _, v = kv.partition("=")
-        if d and d.get(k) != v:
+        if not d or d.get(k) != v:
             args += ["--param", f"{accel}.{k}={v}"]
     return args
+
+
+def render_args(binary, scene, accel, params, defaults):
+    """accelbench render's arguments for one scene and accelerator configuration."""
+    return [binary, "render"] + scene_args("--scene", scene) + ["--accel", accel] + param_args(accel, params, defaults)
 
 
 def heat_side(rows):
@@ -674,12 +680,7 @@ def verify_command(r, defaults):
     """The verify command that re-runs one cell's verification (it lists the mismatching rays, each with its replay)."""
     k = parse_cell_key(r.get("cell_key", ""))
     scene = k.get("scene", r["scene"])
-    args = ["accelbench", "verify"]
-    if "@" in scene and "=" in scene.split("@", 1)[1]:
-        base, view = scene.split("@", 1)
-        args += ["--scenes", base, "--view", view]
-    else:
-        args += ["--scenes", scene]
+    args = ["accelbench", "verify"] + scene_args("--scenes", scene)
     if "rays" in k:
         args += ["--rays", f"RAYFILE(hash {k['rays']})"]
     else:
@@ -689,13 +690,7 @@ def verify_command(r, defaults):
             args += ["--depth", k["depth"]]
         if k.get("corners") == "1":
             args.append("--corners")
-    accel = r["accel"]
-    args += ["--accels", accel]
-    d = defaults.get(accel, {})
-    for kv in common.split_params(r.get("params", "")):
-        key, _, v = kv.partition("=")
-        if d and d.get(key) != v:
-            args += ["--param", f"{accel}.{key}={v}"]
+    args += ["--accels", r["accel"]] + param_args(r["accel"], r.get("params", ""), defaults)
     return " ".join(shlex.quote(a) for a in args)
 
 
