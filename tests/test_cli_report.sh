@@ -51,6 +51,12 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 print(len(rows), len({r["params"] for r in rows}), len({r["cell_key"] for r in rows}), sum("res=4x4x4" in r["params"] for r in rows))' "$T/two/matrix.csv")
 [ "$rows" = "2 2 2 1" ] && ok || bad "two grid instances: rows, params, keys, res=4x4x4 rows = $rows"
 
+# --- reproduce spd builds its variants through the same parser
+refused "unclosed '\\['" -- "$AB" reproduce spd --quick --accels 'bvh-gs[order=x' --out "$T/spd0"
+expect 0 "spd_tables.md" -- "$AB" reproduce spd --quick --scenes tetra --accels 'bvh-gs,bvh-gs[order=sorted|given]' --out "$T/spd"
+got=$(cut -d, -f2 "$T/spd/spd.csv" | sed 1d | sort -u | tr '\n' ' ')
+[ "$got" = "bvh-gs bvh-gs[order=given] bvh-gs[order=sorted] " ] && ok || bad "reproduce spd variants: '$got'"
+
 # --- render --heatmap-max: the same scale for two images, refused without --heatmap or when not positive
 expect 0 "colour scale 0..500" -- "$AB" render --scene spd:balls:2 --accel grid --heatmap tests --heatmap-max 500 --res 16x16 --out "$T/h1.png"
 expect 0 "colour scale 0..max" -- "$AB" render --scene spd:balls:2 --accel grid --heatmap tests --res 16x16 --out "$T/h2.png"
