@@ -289,7 +289,7 @@ def uniq(rows, col):
 def section_run(rows, run_dir):
     runs = read_run_txt(os.path.join(run_dir, "run.txt"))
     dates = sorted(r.get("date", "") for r in rows if r.get("date"))
-    meta = [("folder", os.path.abspath(run_dir)), ("machine", uniq(rows, "machine")), ("cpu", uniq(rows, "cpu")),
+    meta = [("folder", os.path.normpath(run_dir)), ("machine", uniq(rows, "machine")), ("cpu", uniq(rows, "cpu")),
             ("revision", uniq(rows, "git_rev")), ("threads", uniq(rows, "threads")),
             ("repeat", uniq(rows, "repeat")), ("rays made at", uniq(rows, "res") + " px, spp " + uniq(rows, "spp")),
             ("dates", f"{dates[0]} to {dates[-1]}" if dates else "?"),
