@@ -30,6 +30,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "accel_spec.h"
 #include "figures.h"
 #include "report.h"
 #include "reproduce.h"
@@ -66,9 +67,11 @@ typedef struct {
     bool use[SPD_SCENES];
     bool has_figures[SPD_SCENES];
     int img; /* image side: eye rays are (img+1)^2 */
-    const char *accel[SPD_ACCELS];
+    const char *accel[SPD_ACCELS]; /* each instance's label (accel_spec.h): bvh-gs, bvh-gs[order=sorted] */
+    const char *name[SPD_ACCELS];  /* its accelerator */
+    char label[SPD_ACCELS][600];
+    char settings[SPD_ACCELS][1024]; /* its parameters that differ from the defaults, k=v,k=v */
     int naccels;
-    char accels_copy[1024];
     double theirs[SPD_SCENES][WHITTED_PARTS];     /* the Readme's counts, scaled to our eye rays */
     double their_box[SPD_SCENES], their_prim[SPD_SCENES]; /* its tests per ray */
     uint64_t ours[SPD_SCENES][WHITTED_PARTS];     /* eye hits, then the sets' ray counts */
@@ -91,27 +94,34 @@ void spd_usage(FILE *out)
 static int parse_accels(spd_run *r)
 {
     const char *list = r->k.o.accels ? r->k.o.accels : "bvh-gs";
-    snprintf(r->accels_copy, sizeof r->accels_copy, "%s", list);
-    for (char *save = NULL, *p = strtok_r(r->accels_copy, ",", &save); p; p = strtok_r(NULL, ",", &save)) {
-        const struct accel_ops *ops = accel_find(p);
-        if (!ops) {
-            fprintf(stderr, "accelbench reproduce spd: --accels: unknown accelerator '%s' (see accelbench list accels)\n", p);
-            return 2;
-        }
-        if (ops->flags & ACCEL_SHADOW_ONLY) {
-            fprintf(stderr, "accelbench reproduce spd: --accels: %s answers shadow rays only; the protocol needs closest hits\n", p);
-            return 2;
-        }
-        if (r->naccels == SPD_ACCELS) {
-            fprintf(stderr, "accelbench reproduce spd: --accels: at most %d accelerators\n", SPD_ACCELS);
-            return 2;
-        }
-        r->accel[r->naccels++] = p;
-    }
-    if (!r->naccels) {
-        fprintf(stderr, "accelbench reproduce spd: --accels: no accelerator named\n");
+    /* Instances and sweeps as run's --accels (accel_spec.h): 'bvh-gs,bvh-gs[order=sorted]'. */
+    static accel_config inst[SPD_ACCELS];
+    char err[1024];
+    int n = accel_spec_expand(list, inst, SPD_ACCELS, err, sizeof err);
+    if (n < 0) {
+        fprintf(stderr, "accelbench reproduce spd: %s\n", err);
         return 2;
     }
+    for (int i = 0; i < n; i++) {
+        if (inst[i].ops->flags & ACCEL_SHADOW_ONLY) {
+            fprintf(stderr, "accelbench reproduce spd: --accels: %s answers shadow rays only; the protocol needs closest hits\n",
+                    inst[i].ops->name);
+            return 2;
+        }
+        /* The label names the variant in the tables; the name and the differing parameters build it. */
+        accel_config_label(&inst[i], r->label[i], sizeof r->label[i]);
+        for (char *c = r->label[i]; *c; c++)
+            if (*c == ',') *c = ';'; /* the label is spd.csv's variant column: no comma */
+        size_t len = 0;
+        r->settings[i][0] = 0;
+        for (int k = 0; k < inst[i].params.count; k++)
+            if (strcmp(inst[i].params.values[k], inst[i].params.table[k].default_value))
+                len += (size_t)snprintf(r->settings[i] + len, sizeof r->settings[i] - len, "%s%s=%s", len ? "," : "",
+                                        inst[i].params.table[k].name, inst[i].params.values[k]);
+        r->name[i] = inst[i].ops->name;
+        r->accel[i] = r->label[i];
+    }
+    r->naccels = n;
     return 0;
 }
 
@@ -162,7 +172,7 @@ static int run_experiments(spd_run *r)
         for (uint32_t i = 0; i < eye->count; i++) r->ours[si][WHITTED_EYE] += eye->hits[i].prim != HIT_NONE;
         for (int p = 1; p < WHITTED_PARTS; p++) r->ours[si][p] = k->cells[p].rs->count;
         for (int a = 0; a < r->naccels; a++)
-            if (!(r->m[si][a] = rp_measure(k, "spd", r->accel[a], r->accel[a], ""))) return 2;
+            if (!(r->m[si][a] = rp_measure(k, "spd", r->accel[a], r->name[a], r->settings[a]))) return 2;
     }
     rp_close_scene(k);
     return 0;
@@ -211,7 +221,7 @@ static void counts_table(spd_run *r, FILE *f)
 static void accel_table(spd_run *r, FILE *f, int a)
 {
     const char *name = r->accel[a];
-    bool gs = !strcmp(name, "bvh-gs");
+    bool gs = !strcmp(r->name[a], "bvh-gs");
     report_section(f, name, "Every ray of the protocol through %s (the four sets summed): bounding volume (box) tests "
                    "and primitive tests per ray beside the Readme's HP-835 figures (its Goldsmith-Salmon hierarchy; "
                    "its tests over all its rays), build and trace time (median of %d, paired with Embree).%s",

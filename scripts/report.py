@@ -53,6 +53,7 @@ common.PROG = PROG
 num = common.num
 PICTURE_MAX_PRIMS = 100000
 PICTURE_MAX_SCENES = 10
+PLOT_MAX_SCENES = 12     # more scenes: per-scene figures linked, not embedded
 HEAT_SIDE = 128          # heat maps and pictures: this many pixels on the longer side
 CLOSEST = ("primary", "reflection", "diffuse", "random", "whitted:eye", "whitted:reflected", "whitted:refracted")
 MISMATCH = ("real", "edge", "tol", "refwrong", "origin", "unjudged")
@@ -289,7 +290,7 @@ def uniq(rows, col):
 def section_run(rows, run_dir):
     runs = read_run_txt(os.path.join(run_dir, "run.txt"))
     dates = sorted(r.get("date", "") for r in rows if r.get("date"))
-    meta = [("folder", os.path.abspath(run_dir)), ("machine", uniq(rows, "machine")), ("cpu", uniq(rows, "cpu")),
+    meta = [("folder", os.path.normpath(run_dir)), ("machine", uniq(rows, "machine")), ("cpu", uniq(rows, "cpu")),
             ("revision", uniq(rows, "git_rev")), ("threads", uniq(rows, "threads")),
             ("repeat", uniq(rows, "repeat")), ("rays made at", uniq(rows, "res") + " px, spp " + uniq(rows, "spp")),
             ("dates", f"{dates[0]} to {dates[-1]}" if dates else "?"),
@@ -369,7 +370,7 @@ def section_table(rows, labels):
     return "\n".join(out)
 
 
-def plot_files(rows, run_dir, csv_path, tmp, binary):
+def plot_files(rows, labels, run_dir, csv_path, tmp, binary):
     """plot.py's PNGs: the run folder's when they are all there, else drawn into tmp."""
     scenes = common.ordered(r["scene"] for r in rows)
     stems, names = set(), []
@@ -383,7 +384,13 @@ def plot_files(rows, run_dir, csv_path, tmp, binary):
         return os.path.isfile(os.path.join(folder, "overview__ratio.png")) and all(
             os.path.isfile(os.path.join(folder, stem + "__mrays.png")) for _, stem in names)
     folder = run_dir
-    if not have(run_dir):
+    if len(names) > PLOT_MAX_SCENES:
+        # Only the overview goes on the page (section_plots links the per-scene PNGs the folder has).
+        if not os.path.isfile(os.path.join(run_dir, "overview__ratio.png")):
+            folder = os.path.join(tmp, "plots")
+            os.makedirs(folder, exist_ok=True)
+            common.plot_overview(rows, labels, scenes, os.path.join(folder, "overview__ratio.png"), [])
+    elif not have(run_dir):
         folder = os.path.join(tmp, "plots")
         if binary:
             os.environ.setdefault("ACCELBENCH", binary)
@@ -391,13 +398,24 @@ def plot_files(rows, run_dir, csv_path, tmp, binary):
     return folder, names
 
 
-def section_plots(rows, folder, names):
+def section_plots(rows, folder, names, run_dir):
     out = ['<section id="plots"><h2>Plots</h2>']
     ov = os.path.join(folder, "overview__ratio.png")
     if os.path.isfile(ov):
         out.append("<h3>Ratio to Embree, every scene and accelerator</h3>")
         out.append(img(ov, "Heat map of trace time relative to Embree, geometric mean over workloads, one row per "
                            "scene and one column per accelerator; values above 1 are slower than Embree"))
+    if len(names) > PLOT_MAX_SCENES:
+        out.append(f'<p class="note">{len(names)} scenes: their per-scene figures are not embedded, to keep the page '
+                   "small (accelbench report embeds them for runs of at most "
+                   f"{PLOT_MAX_SCENES} scenes); plot.py's PNGs beside the CSV:</p><ul>")
+        for scene, stem in names:
+            have = [suf for suf in ("mrays", "tests", "build_mem")
+                    if os.path.isfile(os.path.join(run_dir, f"{stem}__{suf}.png"))]
+            links = " · ".join(f'<a href="{esc(stem)}__{suf}.png">{suf}</a>' for suf in have) or "not drawn"
+            out.append(f"<li>{esc(scene)}: {links}</li>")
+        out.append("</ul></section>")
+        return "\n".join(out)
     for scene, stem in names:
         out.append(f"<h3>{esc(scene)}</h3><div class=\"figs\">")
         for suffix, what in (("mrays", "Ray throughput in Mrays/s per workload and accelerator"),
@@ -411,21 +429,27 @@ def section_plots(rows, folder, names):
     return "\n".join(out)
 
 
-def render_args(binary, scene, accel, params, defaults):
-    """accelbench render's arguments for one scene and accelerator configuration."""
-    args = [binary, "render"]
+def scene_args(option, scene):
+    """[option, scene], or [option, base, --view, spec] for SCENE@eye=... (a view's commas cannot go in a list)."""
     if "@" in scene and "=" in scene.split("@", 1)[1]:
         base, view = scene.split("@", 1)
-        args += ["--scene", base, "--view", view]
-    else:
-        args += ["--scene", scene]
-    args += ["--accel", accel]
-    d = defaults.get(accel, {})
+        return [option, base, "--view", view]
+    return [option, scene]
+
+
+def param_args(accel, params, defaults):
+    """--param ACCEL.KEY=VALUE for every parameter that differs from the defaults (every one when they are unknown)."""
+    d, args = defaults.get(accel, {}), []
     for kv in common.split_params(params):
         k, _, v = kv.partition("=")
-        if d and d.get(k) != v:
+        if not d or d.get(k) != v:
             args += ["--param", f"{accel}.{k}={v}"]
     return args
+
+
+def render_args(binary, scene, accel, params, defaults):
+    """accelbench render's arguments for one scene and accelerator configuration."""
+    return [binary, "render"] + scene_args("--scene", scene) + ["--accel", accel] + param_args(accel, params, defaults)
 
 
 def heat_side(rows):
@@ -472,7 +496,8 @@ def section_pictures(rows, labels, binary, defaults, mode, tmp, quiet):
     w, h = heat_side(rows)
     out.append(f'<p class="note">Per-pixel primitive tests of the primary rays ({w}x{h} pixels, '
                "`accelbench render --heatmap tests`), every accelerator of a scene on the same colour scale "
-               "(--heatmap-max: black none, yellow the scene's highest cost); the picture is rendered through "
+               "(--heatmap-max: black none, yellow the scene's highest cost, or 4x the median of the accelerators' maxima "
+               "when one is far above the rest: that map saturates); the picture is rendered through "
                "embree. Accelerators that count nothing (embree) or answer shadow rays only are left out.</p>")
     for si, scene in enumerate(scenes):
         srows = [r for r in rows if r["scene"] == scene]
@@ -500,7 +525,11 @@ def section_pictures(rows, labels, binary, defaults, mode, tmp, quiet):
                 maxima[cfg] = m
             else:
                 notes.append(f"{labels[cfg]}: {err}")
+        # One scale for the scene: the largest maximum, unless one map's is far above the others' (a degenerate
+        # structure testing everything): then 4x their median, and that map saturates (its caption says so).
         top = max(list(maxima.values()) + [1.0])
+        if len(maxima) >= 3:
+            top = max(1.0, min(top, 4.0 * float(np.median(list(maxima.values())))))
         for ci, cfg in enumerate(configs):
             if cfg not in maxima:
                 continue
@@ -510,10 +539,11 @@ def section_pictures(rows, labels, binary, defaults, mode, tmp, quiet):
             if err is not None:
                 notes.append(f"{labels[cfg]}: {err}")
                 continue
+            over = maxima[cfg] > top
             alt = (f"Heat map of primitive tests per primary ray through {labels[cfg]} on {scene}, colour scale 0 to "
-                   f"{top:g} tests; its own maximum {maxima[cfg]:g}")
+                   f"{top:g} tests; its own maximum {maxima[cfg]:g}" + (", above the scale" if over else ""))
             figs.append(f'<figure>{img(path, alt, "hm")}<figcaption>{esc(labels[cfg])}<br>max {maxima[cfg]:g}'
-                        "</figcaption></figure>")
+                        + (" (above the scale)" if over else "") + "</figcaption></figure>")
         if maxima:
             alt = f"Colour scale of the heat maps of {scene}: 0 to {top:g} primitive tests per pixel"
             figs.append(f'<figure>{img(colourbar(top), alt, "bar")}<figcaption>tests/pixel</figcaption></figure>')
@@ -552,8 +582,11 @@ def scaling_plot(fam, data, labels_order, workloads):
         ax.grid(alpha=0.3, which="both")
     for ax in list(axes.flat)[len(panels):]:
         ax.axis("off")
-    handles, names = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, names, loc="center right", fontsize=8)
+    legend = {}
+    for ax in axes.flat:  # every accelerator once, also those missing from the first panel (lightbuf)
+        for h, n in zip(*ax.get_legend_handles_labels()):
+            legend.setdefault(n, h)
+    fig.legend(list(legend.values()), list(legend), loc="center right", fontsize=8)
     fig.suptitle(f"spd:{fam}: cost against size, log-log, fitted y = c N^k", fontsize=11)
     fig.tight_layout(rect=(0, 0, 1 - 1.9 / (4.3 * ncol + 2.2), 0.95))
     buf = io.BytesIO()
@@ -567,7 +600,7 @@ def exponent_plot(fam, data, labels_order, workloads):
     keys = [("time", w) for w in workloads] + [("tests", w) for w in workloads] + [("build", None), ("memory", None)]
     keys = [k for k in keys if any((k[0], l, k[1]) in data["fits"] for l in labels_order)]
     labs = [l for l in labels_order if any((k[0], l, k[1]) in data["fits"] for k in keys)]
-    fig, ax = plt.subplots(figsize=(9, 0.45 * len(labs) * max(1, len(keys)) ** 0.5 + 1.8))
+    fig, ax = plt.subplots(figsize=(9, 0.22 * len(labs) * max(1, len(keys)) ** 0.5 + 1.6))
     step = 0.8 / max(1, len(keys))
     for j, (metric, wl) in enumerate(keys):
         ys, xs, lo, hi = [], [], [], []
@@ -658,6 +691,18 @@ def section_scaling(rows, labels):
     return "\n".join(out)
 
 
+def growth_markdown(rows, labels):
+    """The cost-growth sentences of every family, as Markdown (report.py --growth-md)."""
+    workloads = common.ordered((r["workload"] for r in rows), common.WORKLOAD_ORDER)
+    order = list(dict.fromkeys(labels[common.config_key(r)] for r in rows))
+    out = ["# Cost growth", "", "Fitted c N^k (N primitives) with the exponent's 95% interval; see report.html.", ""]
+    for fam, data in scaling_fits(rows, labels).items():
+        sizes = sorted({n for p in data["points"].values() for n, _ in p})
+        out += [f"## spd:{fam}", "", f"sizes: {', '.join(str(int(n)) for n in sizes)} primitives", ""]
+        out += [f"- {s}" for s in sentences(data, order, workloads)] + [""]
+    return "\n".join(out)
+
+
 def parse_cell_key(key):
     words = {}
     for w in (key or "").split(" "):
@@ -671,12 +716,7 @@ def verify_command(r, defaults):
     """The verify command that re-runs one cell's verification (it lists the mismatching rays, each with its replay)."""
     k = parse_cell_key(r.get("cell_key", ""))
     scene = k.get("scene", r["scene"])
-    args = ["accelbench", "verify"]
-    if "@" in scene and "=" in scene.split("@", 1)[1]:
-        base, view = scene.split("@", 1)
-        args += ["--scenes", base, "--view", view]
-    else:
-        args += ["--scenes", scene]
+    args = ["accelbench", "verify"] + scene_args("--scenes", scene)
     if "rays" in k:
         args += ["--rays", f"RAYFILE(hash {k['rays']})"]
     else:
@@ -686,13 +726,7 @@ def verify_command(r, defaults):
             args += ["--depth", k["depth"]]
         if k.get("corners") == "1":
             args.append("--corners")
-    accel = r["accel"]
-    args += ["--accels", accel]
-    d = defaults.get(accel, {})
-    for kv in common.split_params(r.get("params", "")):
-        key, _, v = kv.partition("=")
-        if d and d.get(key) != v:
-            args += ["--param", f"{accel}.{key}={v}"]
+    args += ["--accels", r["accel"]] + param_args(r["accel"], r.get("params", ""), defaults)
     return " ".join(shlex.quote(a) for a in args)
 
 
@@ -755,6 +789,8 @@ def main(argv=None):
     p.add_argument("--accelbench", metavar="BIN", help="the accelbench binary (for defaults, heat maps and pictures)")
     p.add_argument("--pictures", choices=("auto", "on", "off"), default="auto")
     p.add_argument("--quiet", action="store_true")
+    p.add_argument("--growth-md", action="store_true",
+                   help="print the cost-growth sentences of every family as Markdown instead of writing the page")
     args = p.parse_args(argv)
     if not os.path.isdir(args.run_dir):
         common.fail(f"{args.run_dir}: no such folder")
@@ -766,6 +802,9 @@ def main(argv=None):
         binary = None
     defaults = accel_defaults(binary)
     labels = config_labels(rows, defaults)
+    if args.growth_md:
+        print(growth_markdown(rows, labels))
+        return 0
     out_path = args.out or os.path.join(args.run_dir, "report.html")
     title = f"accelbench report: {os.path.basename(os.path.abspath(args.run_dir))}"
     tmp = tempfile.mkdtemp(prefix="accelbench-report.")
@@ -779,8 +818,8 @@ def main(argv=None):
         else:
             parts.append(section_run(rows, args.run_dir))
             parts.append(section_table(rows, labels))
-            folder, names = plot_files(rows, args.run_dir, csv_path, tmp, binary)
-            parts.append(section_plots(rows, folder, names))
+            folder, names = plot_files(rows, labels, args.run_dir, csv_path, tmp, binary)
+            parts.append(section_plots(rows, folder, names, args.run_dir))
             parts.append(section_pictures(rows, labels, binary, defaults, args.pictures, tmp, args.quiet))
             parts.append(section_scaling(rows, labels))
             parts.append(section_verify(rows, labels, defaults))
