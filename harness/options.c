@@ -144,6 +144,14 @@ static int split(char *s, const char **parts, int max, const char *what)
     return n;
 }
 
+/* An option only one subcommand takes: true when cmd is it, else false after the one-line error. */
+static bool option_of(const char *cmd, const char *owner, const char *option)
+{
+    if (strcmp(cmd, owner) == 0) return true;
+    fprintf(stderr, "accelbench %s: %s is an option of %s (see accelbench %s --help)\n", cmd, option, owner, owner);
+    return false;
+}
+
 static int parse_long(const char *opt, const char *s, long lo, long hi, long *out)
 {
     char *end;
@@ -289,20 +297,14 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
         case OPT_NO_PLOTS: o->plots = false; break;
         case OPT_REPORT:
-            if (strcmp(cmd, "run") != 0) {
-                fprintf(stderr, "accelbench %s: --report is an option of run (see accelbench run --help)\n", cmd);
-                return 2;
-            }
+            if (!option_of(cmd, "run", "--report")) return 2;
             o->report = true;
             break;
         case OPT_HEATMAP_MAX: {
             char *end;
             errno = 0;
             double m = strtod(optarg, &end);
-            if (strcmp(cmd, "render") != 0) {
-                fprintf(stderr, "accelbench %s: --heatmap-max is an option of render (see accelbench render --help)\n", cmd);
-                return 2;
-            }
+            if (!option_of(cmd, "render", "--heatmap-max")) return 2;
             if (errno || end == optarg || *end || !(m > 0.0 && m <= 1e15)) {
                 fprintf(stderr, "accelbench: --heatmap-max %s: expected a number above 0\n", optarg);
                 return 2;
@@ -311,10 +313,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             break;
         }
         case OPT_REDO:
-            if (strcmp(cmd, "run") != 0) {
-                fprintf(stderr, "accelbench %s: --redo is an option of run (see accelbench run --help)\n", cmd);
-                return 2;
-            }
+            if (!option_of(cmd, "run", "--redo")) return 2;
             o->redo = true;
             break;
         case OPT_WARM_PASSES:
@@ -337,10 +336,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             break;
         }
         case OPT_SHADOW_ACCEL:
-            if (strcmp(cmd, "render") != 0) {
-                fprintf(stderr, "accelbench %s: --shadow-accel is an option of render (see accelbench render --help)\n", cmd);
-                return 2;
-            }
+            if (!option_of(cmd, "render", "--shadow-accel")) return 2;
             shadow_arg = optarg;
             break;
         case OPT_HEATMAP:
