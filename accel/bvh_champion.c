@@ -1,5 +1,5 @@
 /* bvh_champion.c: `bvh`, the wide SIMD BVH of issue 13 (first stage): a
- * binned SAH binary tree collapsed to 4 or 8 children a node, traversed
+ * binned SAH binary tree collapsed to 2, 4 or 8 children a node, traversed
  * nearest child first with all children's boxes tested at once by SSE4.2,
  * AVX2 or AVX-512 kernels chosen at run time.
  *
@@ -30,7 +30,10 @@
  *     2013, through accel/common/slab.h's arithmetic (wide_walk.h).
  *
  * Parameters (defaults):
- *   width=8       children per node: 4 | 8.
+ *   width=8       children per node: 2 | 4 | 8. 2: the binary tree's nodes
+ *                 re-laid as 64-byte nodes, both children tested together
+ *                 (isa=sse42, avx2 and avx512 all run the SSE4.2 kernel
+ *                 there: two lanes gain nothing from wider registers).
  *   bins=16       SAH bins per axis, 2..256 (Wald 2007).
  *   leafsize=4    the builder's max_leaf: a node of more primitives is
  *                 always split, one of at most this many becomes a leaf
@@ -68,7 +71,8 @@
  *                 (checked before the binary build over its estimate, and
  *                 before the collapse over the exact wide node count).
  *
- * Node sizes and memory layout: accel/bvh/wide.h (BVH4 nodes 128 bytes,
+ * Node sizes and memory layout: accel/bvh/wide.h (BVH2 nodes 64 bytes, 59
+ * used; BVH4 nodes 128 bytes,
  * 117 used; BVH8 nodes 256 bytes, 233 used; 64-byte aligned node array,
  * then 4 bytes of primitive id per primitive in leaf order, then with
  * packets=on 160 bytes per packet, ceil(count / 4) per all-triangle
@@ -86,9 +90,18 @@
  * prim_*_leaf call a leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
  * refs_per_prim, avg_children (used slots per node).
  *
- * Not yet (issue 13's later stages): the packet lanes tested with SIMD
- * (prims/ tests them one after the other, with one ray set-up), a
- * multithreaded sbvh build, quantised nodes (compress=on), width=2. */
+ * Not yet: the packet lanes tested with SIMD (prims/ tests them one after
+ * the other, with one ray set-up); a multithreaded sbvh build and
+ * reference unsplitting; compress=on (Ylitie, Karras, Laine, "Efficient
+ * Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG
+ * 2017: child boxes as 8-bit plane offsets from the node's box with a
+ * power-of-two scale per axis, rounded outward) is not implemented: it
+ * needs its own node layout (a BVH8 node from 256 to about 80 bytes) and
+ * decoding in all four kernels kept bit-identical to the scalar one. Nodes
+ * are about 30 % of the bytes per triangle here (results/champion-
+ * 20261203-085509: 67-70 bytes a triangle, the rest refs and packets), so
+ * it would save some 14 bytes a triangle at most, and the memory target
+ * (84) is met without it. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -98,7 +111,7 @@
 #include "../prims/checked_alloc.h"
 
 static const accel_param champ_params[] = {
-    {"width", "8", "children per node: 4 | 8"},
+    {"width", "8", "children per node: 2 | 4 | 8 (2: binary nodes, both children tested together by SSE4.2)"},
     {"bins", "16", "binned SAH: bins per axis, 2..256 (Wald 2007)"},
     {"leafsize", "4", "largest leaf the SAH builder may make, 1..32"},
     {"travcost", "2", "SAH: cost of a node visit over one primitive test, 0.1..100 (bigger: larger leaves)"},
@@ -174,7 +187,7 @@ static box3 clip_prim(const void *ctx, uint32_t prim, box3 box) { return prim_cl
 
 static accel *champ_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const widths[] = {"4", "8", NULL}, *const onoff[] = {"off", "on", NULL};
+    static const char *const widths[] = {"2", "4", "8", NULL}, *const onoff[] = {"off", "on", NULL};
     static const char *const splits[] = {"object", "sbvh", NULL};
     int wsel, packets, sbvh;
     long bins, leafsize, memcap;
@@ -189,7 +202,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
         params_get_choice(params, "packets", onoff, &packets, err, errlen) || parse_isa(params, &isa, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
         return NULL;
-    const uint32_t width = wsel ? 8 : 4;
+    const uint32_t width = 2u << wsel;
     const prims_t *p = &scene->prims;
     const uint32_t n = p->count;
     if (n > WIDE_INDEX) {
@@ -246,6 +259,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
                         width, n))
         goto fail;
     if (wide_collapse(&t->w, &bin, width)) goto oom;
+    t->w.spatial = sbvh;
     bvh_free(&bin);
 
     /* The all-triangle leaves packed, their size checked first. */
@@ -341,7 +355,7 @@ static box3 champ_bounds(const accel *a)
     box3 b = box_empty();
     if (!t->w.nnodes) return b;
     const uint32_t W = t->w.width;
-    const float *rows = W == 4 ? &((const wide4_node *)t->w.nodes)->box[0][0] : &((const wide8_node *)t->w.nodes)->box[0][0];
+    const float *rows = WIDE_ROWS(t->w.nodes);
     for (uint32_t k = 0; k < W; k++) {
         box3 s = {{rows[0 * W + k], rows[2 * W + k], rows[4 * W + k]}, {rows[1 * W + k], rows[3 * W + k], rows[5 * W + k]}};
         b = box_union(b, s);
@@ -360,7 +374,7 @@ const wide_bvh *bvh_champion_tree(const accel *a, wide_isa *isa)
 /* Every width with every instruction set this CPU has (the conformance
  * suite cannot skip a variant that this machine refuses, so the list is
  * made at start-up from the CPU), and the leaf and bin settings. */
-static const char *champ_variants[2 * WIDE_ISA_COUNT + 6];
+static const char *champ_variants[2 * WIDE_ISA_COUNT + 8];
 __attribute__((constructor)) static void champ_fill_variants(void)
 {
     static const char *const all[2][WIDE_ISA_COUNT] = {
@@ -371,6 +385,8 @@ __attribute__((constructor)) static void champ_fill_variants(void)
     for (int w = 0; w < 2; w++)
         for (int i = 0; i < WIDE_ISA_COUNT; i++)
             if (wide_isa_supported((wide_isa)i) && wide_kernels_for((wide_isa)i, 8)) champ_variants[n++] = all[w][i];
+    champ_variants[n++] = "width=2,isa=scalar";
+    if (wide_isa_supported(WIDE_ISA_SSE42)) champ_variants[n++] = "width=2,isa=sse42";
     champ_variants[n++] = "leafsize=1,width=4";
     champ_variants[n++] = "packets=off";
     champ_variants[n++] = "leafsize=16,bins=4";

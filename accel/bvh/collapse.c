@@ -13,7 +13,7 @@
 
 const char *const wide_isa_names[WIDE_ISA_COUNT + 1] = {"scalar", "sse42", "avx2", "avx512", NULL};
 
-size_t wide_node_bytes(uint32_t width) { return width == 4 ? sizeof(wide4_node) : sizeof(wide8_node); }
+size_t wide_node_bytes(uint32_t width) { return WIDE_NODE_BYTES(width); }
 
 /* The binary nodes that become the children of the wide node made from
  * binary node bi, in slot order: bi's two children opened greedily (bi
@@ -68,18 +68,12 @@ uint32_t wide_count_nodes(const bvh_t *b, uint32_t width)
 
 static void set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t child, uint32_t count)
 {
+    const uint32_t W = w->width;
+    char *node = (char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(W);
     float *rows[6];
-    uint32_t *children;
-    uint8_t *counts;
-    if (w->width == 4) {
-        wide4_node *n = &((wide4_node *)w->nodes)[ni];
-        for (int r = 0; r < 6; r++) rows[r] = n->box[r];
-        children = n->child, counts = n->count;
-    } else {
-        wide8_node *n = &((wide8_node *)w->nodes)[ni];
-        for (int r = 0; r < 6; r++) rows[r] = n->box[r];
-        children = n->child, counts = n->count;
-    }
+    for (uint32_t r = 0; r < 6; r++) rows[r] = WIDE_ROWS(node) + r * W;
+    uint32_t *children = WIDE_CHILD(node, W);
+    uint8_t *counts = WIDE_COUNT(node, W);
     rows[0][k] = box.lo.x, rows[1][k] = box.hi.x;
     rows[2][k] = box.lo.y, rows[3][k] = box.hi.y;
     rows[4][k] = box.lo.z, rows[5][k] = box.hi.z;
@@ -125,8 +119,7 @@ int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width)
             set_slot(w, ni, k, c->box, child, 0);
             pending[np++] = list[k], pending[np++] = child, pending[np++] = depth + 1;
         }
-        if (width == 4) ((wide4_node *)w->nodes)[ni].nchildren = (uint8_t)n;
-        else ((wide8_node *)w->nodes)[ni].nchildren = (uint8_t)n;
+        WIDE_NCHILDREN((char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(width), width) = (uint8_t)n;
         w->nchildren += n;
     }
     free(pending);

@@ -23,7 +23,7 @@
  *     the reciprocal direction (Williams et al., JGT 10(1), 2005), so +-0
  *     direction components are right with no branch.
  *
- * Node layouts (W = 4 or 8 children; sizes asserted below):
+ * Node layouts (W = 2, 4 or 8 children; sizes asserted below):
  *   box[6][W]  floats, one row per plane, W children side by side (SoA):
  *              rows 0 lo_x, 1 hi_x, 2 lo_y, 3 hi_y, 4 lo_z, 5 hi_z; an
  *              unused slot holds the empty box (lo +inf, hi -inf), which
@@ -35,6 +35,7 @@
  *   count[W]   uint8: a leaf's primitives (1..255), 0 for an interior child;
  *   nchildren  uint8: used slots, always the first ones;
  *   padding to a multiple of the 64-byte cache line.
+ *   BVH2: 2*6*4 + 2*4 + 2 + 1 = 59 bytes used, 64 with padding (1 line);
  *   BVH4: 4*6*4 + 4*4 + 4 + 1 = 117 bytes used, 128 with padding (2 lines);
  *   BVH8: 8*6*4 + 8*4 + 8 + 1 = 233 bytes used, 256 with padding (4 lines).
  * Memory layout: nodes[nnodes] (64-byte aligned; node 0 the root, which is
@@ -52,6 +53,7 @@
 #define ACCELBENCH_BVH_WIDE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include "bvh.h"
 #include "../common/slab.h"
@@ -65,6 +67,15 @@ extern "C" {
 #define WIDE_INDEX 0x3FFFFFFFu  /* child[] bits of a leaf's first ref or packet */
 #define WIDE_EMPTY 0xFFFFFFFFu /* child[] of an unused slot */
 #define WIDE_MAX_LEAF 255      /* count[] is a byte */
+
+typedef struct {
+    float box[6][2];   /* 48: planes of the 2 children, SoA (rows above) */
+    uint32_t child[2]; /*  8 */
+    uint8_t count[2];  /*  2 */
+    uint8_t nchildren; /*  1 */
+    uint8_t pad[5];    /*  5: to 64 */
+} wide2_node;
+_Static_assert(sizeof(wide2_node) == 64, "wide2_node: 2*6*4 + 2*4 + 2 + 1 = 59 bytes used, 64 (one cache line)");
 
 typedef struct {
     float box[6][4];   /* 96: planes of the 4 children, SoA (rows above) */
@@ -84,6 +95,20 @@ typedef struct {
 } wide8_node;
 _Static_assert(sizeof(wide8_node) == 256, "wide8_node: 8*6*4 + 8*4 + 8 + 1 = 233 bytes used, 256 (four cache lines)");
 
+/* Every layout is box[6][W], child[W], count[W], nchildren at the same
+ * offsets in units of W, so one accessor serves all widths. */
+#define WIDE_NODE_BYTES(W) ((W) == 2 ? sizeof(wide2_node) : (W) == 4 ? sizeof(wide4_node) : sizeof(wide8_node))
+_Static_assert(offsetof(wide2_node, child) == 24 * 2 && offsetof(wide2_node, count) == 28 * 2 &&
+                   offsetof(wide2_node, nchildren) == 29 * 2, "wide2_node layout");
+_Static_assert(offsetof(wide4_node, child) == 24 * 4 && offsetof(wide4_node, count) == 28 * 4 &&
+                   offsetof(wide4_node, nchildren) == 29 * 4, "wide4_node layout");
+_Static_assert(offsetof(wide8_node, child) == 24 * 8 && offsetof(wide8_node, count) == 28 * 8 &&
+                   offsetof(wide8_node, nchildren) == 29 * 8, "wide8_node layout");
+#define WIDE_ROWS(node) ((float *)(node))
+#define WIDE_CHILD(node, W) ((uint32_t *)((char *)(node) + 24 * (W)))
+#define WIDE_COUNT(node, W) ((uint8_t *)((char *)(node) + 28 * (W)))
+#define WIDE_NCHILDREN(node, W) (*((uint8_t *)((char *)(node) + 29 * (W))))
+
 /* Instruction sets of the box kernels, in order of preference. */
 typedef enum { WIDE_ISA_SCALAR = 0, WIDE_ISA_SSE42, WIDE_ISA_AVX2, WIDE_ISA_AVX512, WIDE_ISA_COUNT } wide_isa;
 extern const char *const wide_isa_names[WIDE_ISA_COUNT + 1]; /* "scalar", "sse42", "avx2", "avx512", NULL */
@@ -95,21 +120,24 @@ bool wide_isa_supported(wide_isa isa);
 wide_isa wide_isa_best(void);
 
 typedef struct {
-    void *nodes;        /* [nnodes] wide4_node or wide8_node, 64-byte aligned */
+    void *nodes;        /* [nnodes] wide2_node, wide4_node or wide8_node, 64-byte aligned */
     uint32_t *refs;     /* [nrefs] primitive ids, by leaf */
-    uint32_t width;     /* 4 or 8 */
+    uint32_t width;     /* 2, 4 or 8 */
     uint32_t nnodes, nrefs;
     uint32_t nleaves;   /* leaf children over all nodes */
     uint32_t max_depth; /* deepest leaf, root = 0, a leaf one below its node */
     uint64_t nchildren; /* used slots over all nodes: interior children + leaves */
     prim_tri_packet *packets; /* [npackets] the all-triangle leaves' triangles (wide_pack_leaves), or NULL */
     uint32_t npackets;
+    bool spatial;       /* built with spatial splits: a primitive may be in several leaves, each slot bounding the part
+                         * of it that the leaf stands for (set by the caller after wide_collapse) */
 } wide_bvh;
 
 /* Wide nodes the collapse of b to width makes (so a caller can check a
  * memory cap before wide_collapse allocates them). */
 uint32_t wide_count_nodes(const bvh_t *b, uint32_t width);
-/* Collapse the binary tree b to width 4 or 8: each wide node starts from
+/* Collapse the binary tree b to width 2, 4 or 8 (2: the binary tree's
+ * own nodes, re-laid): each wide node starts from
  * the two children of a binary interior node and repeatedly replaces the
  * child of largest surface area that is interior by its two children,
  * until it has width of them or all are leaves (ties: the first in slot
@@ -136,7 +164,8 @@ uint32_t wide_stack_cap(const wide_bvh *w);
 int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max);
 /* For tests: every node's slots hold their children's bounds (a child
  * node's box is the union of its slots; a leaf's holds its primitives'
- * boxes[]), unused slots empty, every primitive in one leaf, the counts
+ * boxes[], or with w->spatial meets them), unused slots empty, every
+ * primitive in one leaf (w->spatial: in at least one), the counts
  * right. 0, or -1 with the first failure in err. */
 int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size_t errlen);
 
@@ -160,14 +189,17 @@ typedef struct {
     bool (*occluded_fast)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray);
 } wide_kernels;
 
-/* The kernels of isa for width 4 or 8; NULL when this build has none for
- * it (a non-x86 target: only scalar). */
+/* The kernels of isa for width 2, 4 or 8; NULL when this build has none
+ * for it (a non-x86 target: only scalar). Width 2 under avx2 and avx512
+ * runs the SSE4.2 kernels: two children fill half a 128-bit register,
+ * wider ones would add nothing. */
 const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width);
 
-/* Per ISA, [0] width 4, [1] width 8 (wide_traverse_*.c). */
-extern const wide_kernels wide_kernels_scalar[2];
+/* Per ISA, [0] width 4, [1] width 8, [2] width 2 (scalar and sse42 only)
+ * (wide_traverse_*.c). */
+extern const wide_kernels wide_kernels_scalar[3];
 #if defined(__x86_64__) || defined(__i386__)
-extern const wide_kernels wide_kernels_sse42[2];
+extern const wide_kernels wide_kernels_sse42[3];
 extern const wide_kernels wide_kernels_avx2[2];
 extern const wide_kernels wide_kernels_avx512[2];
 #endif

@@ -14,15 +14,9 @@ typedef struct {
 
 static node_view view(const wide_bvh *w, uint32_t i)
 {
-    node_view v;
-    if (w->width == 4) {
-        const wide4_node *n = &((const wide4_node *)w->nodes)[i];
-        v = (node_view){&n->box[0][0], n->child, n->count, n->nchildren};
-    } else {
-        const wide8_node *n = &((const wide8_node *)w->nodes)[i];
-        v = (node_view){&n->box[0][0], n->child, n->count, n->nchildren};
-    }
-    return v;
+    const uint32_t W = w->width;
+    char *n = (char *)w->nodes + (size_t)i * WIDE_NODE_BYTES(W);
+    return (node_view){WIDE_ROWS(n), WIDE_CHILD(n, W), WIDE_COUNT(n, W), WIDE_NCHILDREN(n, W)};
 }
 
 static box3 slot_box(const node_view *v, uint32_t W, uint32_t k)
@@ -48,7 +42,7 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
     uint32_t leaves = 0, refs = 0, max_depth = 0;
     uint64_t nchildren = 0, packets = 0;
     if (!seen_prim || !seen_node || !depth) FAIL("out of memory");
-    if (W != 4 && W != 8) FAIL("width %u", W);
+    if (W != 2 && W != 4 && W != 8) FAIL("width %u", W);
     if (n && !w->nnodes) FAIL("no nodes over %u primitives", n);
     if (w->nnodes) seen_node[0] = 1;
     /* Children always come after their parent (collapse allocates them
@@ -79,9 +73,10 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
                     if (packed && j + 1 == cnt && (j + 1) % PRIM_TRI_LANES &&
                         w->packets[first + j / PRIM_TRI_LANES].id[(j + 1) % PRIM_TRI_LANES] != PRIM_TRI_NO_ID)
                         FAIL("node %u slot %u: packet leaf of %u has more lanes", i, k, cnt);
-                    if (id >= n || seen_prim[id]) FAIL("primitive %u in two leaves or out of range", id);
+                    if (id >= n || (seen_prim[id] && !w->spatial)) FAIL("primitive %u in two leaves or out of range", id);
                     seen_prim[id] = 1;
-                    if (!box_contains(b, boxes[id])) FAIL("node %u slot %u does not contain primitive %u", i, k, id);
+                    if (w->spatial ? !box_overlap(b, boxes[id]) : !box_contains(b, boxes[id]))
+                        FAIL("node %u slot %u does not %s primitive %u", i, k, w->spatial ? "meet" : "contain", id);
                 }
                 leaves++, refs += cnt;
                 packets += packed ? prim_tri_packets(cnt) : 0;

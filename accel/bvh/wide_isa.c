@@ -30,6 +30,14 @@ wide_isa wide_isa_best(void)
 const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width)
 {
     int k = width == 8;
+    if (width == 2) {
+        /* BVH2: scalar, or the SSE4.2 kernel for every SIMD ISA (wide.h). */
+        if (isa == WIDE_ISA_SCALAR) return &wide_kernels_scalar[2];
+#if defined(__x86_64__) || defined(__i386__)
+        if (isa < WIDE_ISA_COUNT) return &wide_kernels_sse42[2];
+#endif
+        return NULL;
+    }
     switch (isa) {
     case WIDE_ISA_SCALAR: return &wide_kernels_scalar[k];
 #if defined(__x86_64__) || defined(__i386__)

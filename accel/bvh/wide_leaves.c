@@ -10,19 +10,14 @@
 /* Slot k of node i: its child word and its count. */
 static uint32_t *slot_child(wide_bvh *w, uint32_t i, uint32_t k, uint32_t *count)
 {
-    if (w->width == 4) {
-        wide4_node *n = &((wide4_node *)w->nodes)[i];
-        *count = n->count[k];
-        return &n->child[k];
-    }
-    wide8_node *n = &((wide8_node *)w->nodes)[i];
-    *count = n->count[k];
-    return &n->child[k];
+    char *n = (char *)w->nodes + (size_t)i * WIDE_NODE_BYTES(w->width);
+    *count = WIDE_COUNT(n, w->width)[k];
+    return &WIDE_CHILD(n, w->width)[k];
 }
 
 static uint32_t node_children(const wide_bvh *w, uint32_t i)
 {
-    return w->width == 4 ? ((const wide4_node *)w->nodes)[i].nchildren : ((const wide8_node *)w->nodes)[i].nchildren;
+    return WIDE_NCHILDREN((char *)w->nodes + (size_t)i * WIDE_NODE_BYTES(w->width), w->width);
 }
 
 uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p)

@@ -1,5 +1,6 @@
 /* wide_traverse_sse42.c: the wide BVH's walk (wide_walk.h) with SSE4.2 box
- * kernels: 4 children per 128-bit register (a BVH8 node in two halves).
+ * kernels: 4 children per 128-bit register (a BVH8 node in two halves, a
+ * BVH2 node's two children in the low lanes of one).
  * Compiled for SSE4.2 by per-function target attributes only, and run only
  * where __builtin_cpu_supports("sse4.2") says so (wide_isa.c). */
 #if defined(__x86_64__) || defined(__i386__)
@@ -38,8 +39,31 @@ WIDE_FN unsigned box8(const wide_ray *r, const void *node, float t0, float t1, f
     return box4_at(r, rows, 8, 0, t0, t1, tn) | box4_at(r, rows, 8, 4, t0, t1, tn);
 }
 
+/* A BVH2 node: both children in the low two lanes (each row's two floats
+ * loaded as one 64-bit word, the high lanes zero and masked off). */
+WIDE_FN unsigned box2(const wide_ray *r, const void *node, float t0, float t1, float *tn)
+{
+    const float *rows = &((const wide2_node *)node)->box[0][0];
+    __m128 a = _mm_set1_ps(t0), z = _mm_set1_ps(t1);
+    const __m128 scale = _mm_set1_ps(SLAB_FAR_SCALE);
+    for (uint32_t ax = 0; ax < 3; ax++) {
+        const __m128 o = _mm_set1_ps(r->org[ax]), inv = _mm_set1_ps(r->inv[ax]);
+        __m128 nr = _mm_castpd_ps(_mm_load_sd((const double *)(rows + r->near[ax] * 2)));
+        __m128 fr = _mm_castpd_ps(_mm_load_sd((const double *)(rows + r->far[ax] * 2)));
+        __m128 n = _mm_mul_ps(_mm_sub_ps(nr, o), inv);
+        __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(fr, o), inv), scale);
+        a = _mm_max_ps(n, a); /* a NaN n keeps a */
+        z = _mm_min_ps(f, z);
+    }
+    __m128 hit = _mm_and_ps(_mm_cmple_ps(a, z), _mm_and_ps(_mm_cmplt_ps(a, _mm_set1_ps(INFINITY)),
+                                                           _mm_cmpgt_ps(z, _mm_set1_ps(-INFINITY))));
+    _mm_storel_pi((__m64 *)tn, a);
+    return (unsigned)_mm_movemask_ps(hit) & 3u;
+}
+
+WIDE_ENTRY_POINTS(sse2, 2, box2)
 WIDE_ENTRY_POINTS(sse4, 4, box4)
 WIDE_ENTRY_POINTS(sse8, 8, box8)
 
-const wide_kernels wide_kernels_sse42[2] = {WIDE_KERNELS(sse4), WIDE_KERNELS(sse8)};
+const wide_kernels wide_kernels_sse42[3] = {WIDE_KERNELS(sse4), WIDE_KERNELS(sse8), WIDE_KERNELS(sse2)};
 #endif

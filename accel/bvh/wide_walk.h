@@ -122,17 +122,10 @@ WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, c
     bool occluded = false;
     for (;;) {
         /* Visit node cur: all its children's boxes at once. */
-        const void *node;
-        const uint32_t *child;
-        const uint8_t *count;
-        uint32_t nch;
-        if (W == 4) {
-            const wide4_node *n = &((const wide4_node *)w->nodes)[cur];
-            node = n, child = n->child, count = n->count, nch = n->nchildren;
-        } else {
-            const wide8_node *n = &((const wide8_node *)w->nodes)[cur];
-            node = n, child = n->child, count = n->count, nch = n->nchildren;
-        }
+        const char *node = (const char *)w->nodes + (size_t)cur * WIDE_NODE_BYTES(W);
+        const uint32_t *child = WIDE_CHILD(node, W);
+        const uint8_t *count = WIDE_COUNT(node, W);
+        const uint32_t nch = WIDE_NCHILDREN(node, W);
         nsteps++;
         nbox += nch;
         float tn[8] __attribute__((aligned(32)));
@@ -161,9 +154,9 @@ WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, c
         for (uint32_t i = 0; i < m; i++) {
             uint32_t ch = child[ord[i]];
             if (!(ch & WIDE_LEAF)) {
-                const char *nb = (const char *)w->nodes + (size_t)ch * (W == 4 ? sizeof(wide4_node) : sizeof(wide8_node));
+                const char *nb = (const char *)w->nodes + (size_t)ch * WIDE_NODE_BYTES(W);
                 __builtin_prefetch(nb);
-                __builtin_prefetch(nb + 64);
+                if (W >= 4) __builtin_prefetch(nb + 64);
                 if (W == 8) __builtin_prefetch(nb + 128);
             } else if (ch & WIDE_PACKED) {
                 /* A leaf's first packet: perf found a quarter of the
