@@ -1013,8 +1013,65 @@ static void test_boundary_distance(void)
     CHECK_NEAR(sphere_boundary_distance(s, &r), 2.0, 1e-12);
 }
 
+/* vec3.h's inline f_min / f_max give libm's fminf / fmaxf bit for bit:
+ * a quiet NaN on either side (two NaNs give a NaN), zeros (a zero of
+ * either sign), infinities, denormals, random pairs. Signaling NaNs (no arithmetic makes one; scene input with one is
+ * refused as not finite first) are left out: glibc answers NaN for them,
+ * f_min treats them as quiet ones. */
+static bool signaling(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return isnan(f) && !(u & 0x400000u);
+}
+
+static uint32_t float_bits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+static void test_min_max_as_libm(void)
+{
+    const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, INFINITY, -INFINITY, NAN, -NAN, FLT_MIN, -FLT_MIN,
+                             FLT_TRUE_MIN, -FLT_TRUE_MIN, FLT_MAX, -FLT_MAX, 1e-30f, 3.5f};
+    const int ns = (int)(sizeof special / sizeof special[0]);
+    uint32_t differ = 0, pairs = 0;
+    uint64_t state = 99;
+    for (int i = 0; i < ns + 20000; i++) {
+        for (int j = 0; j < ns; j++) {
+            float a, b = special[j];
+            if (i < ns) a = special[i];
+            else {
+                state = state * 6364136223846793005ull + 1442695040888963407ull;
+                uint32_t u = (uint32_t)(state >> 32);
+                memcpy(&a, &u, sizeof a); /* any bit pattern, NaNs included */
+                if (j & 1) b = a * 0.5f;
+            }
+            if (signaling(a) || signaling(b)) continue;
+            if (a == 0.0f && b == 0.0f) { /* +0 and -0: equal, libm's sign varies with its build */
+                pairs += 2;
+                differ += f_min(a, b) != 0.0f || f_max(a, b) != 0.0f || f_min(b, a) != 0.0f || f_max(b, a) != 0.0f;
+                continue;
+            }
+            if (isnan(a) && isnan(b)) { /* a NaN, whose payload libm takes from either side */
+                pairs += 2;
+                differ += !isnan(f_min(a, b)) || !isnan(f_max(a, b)) || !isnan(f_min(b, a)) || !isnan(f_max(b, a));
+                continue;
+            }
+            pairs += 2;
+            differ += float_bits(f_min(a, b)) != float_bits(fminf(a, b)) || float_bits(f_max(a, b)) != float_bits(fmaxf(a, b));
+            differ += float_bits(f_min(b, a)) != float_bits(fminf(b, a)) || float_bits(f_max(b, a)) != float_bits(fmaxf(b, a));
+        }
+    }
+    CHECK_MSG(differ == 0, "f_min/f_max differ from fminf/fmaxf on %u of %u ordered pairs", differ, pairs);
+    printf("f_min/f_max: %u ordered pairs as fminf/fmaxf\n", pairs);
+}
+
 int main(void)
 {
+    test_min_max_as_libm();
     test_triangle_basic();
     test_triangle_edges_vertices();
     test_watertight_quad();
