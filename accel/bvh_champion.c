@@ -1,4 +1,4 @@
-/* bvh_champion.c: `bvh`, the wide SIMD BVH of issue 13 (first stage): a
+/* bvh_champion.c: `bvh`, the wide SIMD BVH of issue 13: a
  * binned SAH binary tree collapsed to 2, 4 or 8 children a node, traversed
  * nearest child first with all children's boxes tested at once by SSE4.2,
  * AVX2 or AVX-512 kernels chosen at run time.
@@ -90,8 +90,7 @@
  * prim_*_leaf call a leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
  * refs_per_prim, avg_children (used slots per node).
  *
- * Not yet: the packet lanes tested with SIMD (prims/ tests them one after
- * the other, with one ray set-up); a multithreaded sbvh build and
+ * Not yet: a multithreaded sbvh build and
  * reference unsplitting; compress=on (Ylitie, Karras, Laine, "Efficient
  * Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG
  * 2017: child boxes as 8-bit plane offsets from the node's box with a
