@@ -145,3 +145,43 @@ box3 prim_clip_bounds(const prims_t *p, uint32_t id, box3 box)
     r = box_meet(r, bb);
     return box_is_empty(r) ? bb : r; /* cannot be empty: the clipped points lie in bb up to e */
 }
+
+/* A triangle split at the plane x[axis] = pos as Embree's spatial-split
+ * builder splits one to bin it: each vertex goes to the side(s) it is on,
+ * each edge that crosses the plane adds its crossing point (interpolated
+ * in float, its axis coordinate set to pos) to both; each side's box is
+ * then met with that half of box. Not exact: the whole triangle is split,
+ * not its part in box (so a side may be larger than the exact part), and
+ * the crossing points carry float rounding (a side may miss the exact part
+ * by about an ulp). Good for cost estimates, which is all it is for. */
+void prim_split_bounds(const prims_t *p, uint32_t id, box3 box, int axis, float pos, box3 *left, box3 *right)
+{
+    box3 lh = box, rh = box;
+    float *lhi = &lh.hi.x, *rlo = &rh.lo.x;
+    lhi[axis] = pos;
+    rlo[axis] = pos;
+    if (id >= p->count || (prim_kind)p->kind[id] != PRIM_TRIANGLE) { /* other kinds: their bounds, halved */
+        box3 b = id < p->count ? p->bounds[id] : box_empty();
+        *left = box_meet(b, lh);
+        *right = box_meet(b, rh);
+        return;
+    }
+    vec3 v[3];
+    tri_verts(p, p->index[id], &v[0], &v[1], &v[2]);
+    box3 l = box_empty(), r = box_empty();
+    for (int i = 0; i < 3; i++) {
+        vec3 a = v[i], b = v[(i + 1) % 3];
+        float da = v3_get(a, axis) - pos, db = v3_get(b, axis) - pos;
+        if (da <= 0.0f) l = box_union(l, (box3){a, a});
+        if (da >= 0.0f) r = box_union(r, (box3){a, a});
+        if ((da < 0.0f && db > 0.0f) || (da > 0.0f && db < 0.0f)) {
+            vec3 c = v3_add(a, v3_scale(v3_sub(b, a), da / (da - db)));
+            float *cc = &c.x;
+            cc[axis] = pos;
+            l = box_union(l, (box3){c, c});
+            r = box_union(r, (box3){c, c});
+        }
+    }
+    *left = box_meet(l, lh);
+    *right = box_meet(r, rh);
+}

@@ -279,6 +279,12 @@ uint32_t polygon_triangulate(const vec3 *pts, uint32_t n, vec3 normal, uint32_t 
  * box_empty() when the primitive does not touch the box (prim_overlaps_box
  * decides touching). */
 box3 prim_clip_bounds(const prims_t *p, uint32_t id, box3 box);
+/* An estimate of prim_clip_bounds of box's two halves at the plane
+ * x[axis] = pos, for a builder's cost estimates only (spatial-split
+ * binning), never for boxes it keeps: triangles split as Embree splits
+ * them to bin (vertices and edge crossings in float, met with each half),
+ * other primitives their bounds met with each half. Either may be empty. */
+void prim_split_bounds(const prims_t *p, uint32_t id, box3 box, int axis, float pos, box3 *left, box3 *right);
 
 #ifdef __cplusplus
 }

@@ -275,6 +275,13 @@ static void test_denormal_extent(void)
 /* sbvh's clip over a prims_t. */
 static box3 clip_prims(const void *ctx, uint32_t prim, box3 box) { return prim_clip_bounds(ctx, prim, box); }
 
+static void split_prims(const void *ctx, uint32_t prim, box3 box, int axis, float pos, box3 *left, box3 *right)
+{
+    prim_split_bounds(ctx, prim, box, axis, pos, left, right);
+}
+
+static bool sbvh_estimated_bins; /* build_sbvh bins straddlers by prim_split_bounds, not by clipping */
+
 static int build_sbvh(bvh_t *b, const prims_t *p, double alpha, uint32_t threads)
 {
     bvh_config cfg;
@@ -283,6 +290,7 @@ static int build_sbvh(bvh_t *b, const prims_t *p, double alpha, uint32_t threads
     bvh_sbvh_config sc;
     bvh_sbvh_config_defaults(&sc);
     sc.alpha = alpha, sc.clip = clip_prims, sc.ctx = p;
+    if (sbvh_estimated_bins) sc.split = split_prims;
     return bvh_build_sbvh(b, p->bounds, p->count, &cfg, &sc);
 }
 
@@ -293,7 +301,9 @@ static int build_sbvh(bvh_t *b, const prims_t *p, double alpha, uint32_t threads
  * in some leaf, every node's box holding its children's, the same tree for
  * any thread count, and every ray's closest hit and occlusion those of
  * brute force. alpha=1 never tries a spatial split: one reference each. */
-static void test_sbvh(void)
+static double sbvh_clipped_cost; /* the clipped-bins tree's SAH cost, which the estimated one must stay near */
+
+static void test_sbvh_once(void)
 {
     prims_t p;
     prims_init(&p);
@@ -309,7 +319,10 @@ static void test_sbvh(void)
     bvh_t obj = build(&builders[1], &p, 4), sb, sb2, one;
     CHECK(build_sbvh(&sb, &p, 1e-5, 0) == 0 && build_sbvh(&sb2, &p, 1e-5, 2) == 0 && build_sbvh(&one, &p, 1.0, 0) == 0);
     double cobj = bvh_sah_cost(&obj, 1, 1), csb = bvh_sah_cost(&sb, 1, 1);
-    printf("sbvh: SAH cost %.2f (object splits %.2f), %u refs over %u primitives\n", csb, cobj, sb.nrefs, p.count);
+    printf("sbvh (%s bins): SAH cost %.2f (object splits %.2f), %u refs over %u primitives\n",
+           sbvh_estimated_bins ? "estimated" : "clipped", csb, cobj, sb.nrefs, p.count);
+    if (!sbvh_estimated_bins) sbvh_clipped_cost = csb;
+    else CHECK_MSG(csb <= 1.05 * sbvh_clipped_cost, "estimated bins: SAH cost %.3f, clipped bins %.3f", csb, sbvh_clipped_cost);
     CHECK_MSG(csb < cobj, "sbvh's SAH cost %.3f is not below the object split's %.3f", csb, cobj);
     CHECK(sb.nrefs > p.count && sb.nrefs <= 2 * p.count && one.nrefs == p.count);
     CHECK(sb.nnodes == sb2.nnodes && sb.nrefs == sb2.nrefs && !memcmp(sb.nodes, sb2.nodes, sb.nnodes * sizeof *sb.nodes) &&
@@ -345,6 +358,65 @@ static void test_sbvh(void)
     }
     CHECK_MSG(wrong == 0 && hits > 100, "sbvh: %u wrong answers of 3000 (%u hits)", wrong, hits);
     bvh_free(&obj), bvh_free(&sb), bvh_free(&sb2), bvh_free(&one);
+    prims_free(&p);
+}
+
+/* Both binnings of the straddlers: clipped exactly to every slab, and
+ * estimated by prim_split_bounds (Embree's float split); the estimated
+ * tree's SAH cost within 5 % of the clipped one's. */
+static void test_sbvh(void)
+{
+    uint64_t seed = rng_state; /* the same scene for both */
+    sbvh_estimated_bins = false;
+    test_sbvh_once();
+    rng_state = seed;
+    sbvh_estimated_bins = true;
+    test_sbvh_once();
+    sbvh_estimated_bins = false;
+}
+
+/* prim_split_bounds, an estimate of prim_clip_bounds of a box's two halves:
+ * on random triangles, boxes and planes each side contains the exact
+ * clip of that half up to float rounding (1e-5 of the box's extent), and
+ * is empty only where the exact clip is. */
+static void test_split_bounds(void)
+{
+    prims_t p;
+    prims_init(&p);
+    for (int i = 0; i < 400; i++) {
+        vec3 c = rnd_v3(-5, 5);
+        add_triangle(&p, v3_add(c, rnd_v3(-4, 4)), v3_add(c, rnd_v3(-4, 4)), v3_add(c, rnd_v3(-4, 4)));
+    }
+    finish(&p);
+    uint32_t bad = 0, cases = 0;
+    for (uint32_t id = 0; id < p.count; id++) {
+        for (int k = 0; k < 8; k++) {
+            box3 tb = p.bounds[id], box = tb;
+            if (k & 1) box = box_meet(tb, (box3){rnd_v3(-9, 0), rnd_v3(0, 9)});
+            if (box_is_empty(box)) continue;
+            int axis = k % 3;
+            float lo = v3_get(box.lo, axis), hi = v3_get(box.hi, axis), pos = lo + (hi - lo) * rnd(0.05f, 0.95f);
+            box3 l, r, lh = box, rh = box;
+            prim_split_bounds(&p, id, box, axis, pos, &l, &r);
+            (&lh.hi.x)[axis] = pos;
+            (&rh.lo.x)[axis] = pos;
+            box3 el = prim_clip_bounds(&p, id, lh), er = prim_clip_bounds(&p, id, rh);
+            float eps = 1e-5f * (v3_get(box_extent(box), 0) + v3_get(box_extent(box), 1) + v3_get(box_extent(box), 2));
+            for (int side = 0; side < 2; side++) {
+                box3 est = side ? r : l, ex = side ? er : el;
+                cases++;
+                if (box_is_empty(ex)) continue;
+                if (box_is_empty(est)) {
+                    bad++;
+                    continue;
+                }
+                for (int a = 0; a < 3; a++)
+                    bad += v3_get(ex.lo, a) < v3_get(est.lo, a) - eps || v3_get(ex.hi, a) > v3_get(est.hi, a) + eps;
+            }
+        }
+    }
+    printf("prim_split_bounds: %u halves, each holds the exact clip\n", cases);
+    CHECK_MSG(bad == 0 && cases > 4000, "prim_split_bounds: %u of %u halves miss the exact clip", bad, cases);
     prims_free(&p);
 }
 
@@ -415,6 +487,7 @@ int main(void)
     test_identical_and_empty();
     test_denormal_extent();
     test_sbvh();
+    test_split_bounds();
     test_soup_and_cluster();
     char err[512];
     scene_t *s = scene_load("bunny", err, sizeof err);

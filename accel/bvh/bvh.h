@@ -119,6 +119,9 @@ typedef struct {
     double alpha; /* try a spatial split when the object split's overlap passes alpha A(root) (default 1e-5) */
     double dup;   /* references beyond n at most dup n (default 1; 0: none, so no spatial split) */
     box3 (*clip)(const void *ctx, uint32_t prim, box3 box);
+    /* Optional, for binning only: estimates of clip() of box's halves below
+     * and above x[axis] = pos (NULL: clip() each slab, exact and slower). */
+    void (*split)(const void *ctx, uint32_t prim, box3 box, int axis, float pos, box3 *left, box3 *right);
     const void *ctx;
 } bvh_sbvh_config;
 void bvh_sbvh_config_defaults(bvh_sbvh_config *s);
