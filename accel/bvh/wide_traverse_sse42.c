@@ -8,6 +8,15 @@
 #define WIDE_TARGET __attribute__((target("sse4.2")))
 #include "wide_walk.h"
 
+/* Four floats of row `row` from slot `off` (rows `stride` floats apart): a
+ * BVH2 row is two floats, loaded as one 64-bit word with the high lanes
+ * zero (masked off by the caller); wider rows are 16-byte aligned. */
+WIDE_FN __m128 row4(const float *rows, uint32_t row, const uint32_t stride, const uint32_t off)
+{
+    if (stride == 2) return _mm_castpd_ps(_mm_load_sd((const double *)(rows + row * 2)));
+    return _mm_load_ps(rows + row * stride + off);
+}
+
 /* Four slots of a node whose rows are `stride` floats apart, starting at
  * slot `off`: slab_clip_robust's arithmetic (wide_walk.h), lane by lane. */
 WIDE_FN unsigned box4_at(const wide_ray *r, const float *rows, const uint32_t stride, const uint32_t off, float t0,
@@ -17,14 +26,14 @@ WIDE_FN unsigned box4_at(const wide_ray *r, const float *rows, const uint32_t st
     const __m128 scale = _mm_set1_ps(SLAB_FAR_SCALE);
     for (uint32_t ax = 0; ax < 3; ax++) {
         const __m128 o = _mm_set1_ps(r->org[ax]), inv = _mm_set1_ps(r->inv[ax]);
-        __m128 n = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + r->near[ax] * stride + off), o), inv);
-        __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + r->far[ax] * stride + off), o), inv), scale);
+        __m128 n = _mm_mul_ps(_mm_sub_ps(row4(rows, r->near[ax], stride, off), o), inv);
+        __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(row4(rows, r->far[ax], stride, off), o), inv), scale);
         a = _mm_max_ps(n, a); /* a NaN n keeps a */
         z = _mm_min_ps(f, z);
     }
     __m128 hit = _mm_and_ps(_mm_cmple_ps(a, z), _mm_and_ps(_mm_cmplt_ps(a, _mm_set1_ps(INFINITY)),
                                                            _mm_cmpgt_ps(z, _mm_set1_ps(-INFINITY))));
-    _mm_store_ps(tn + off, a);
+    _mm_store_ps(tn + off, a); /* at width 2, lanes 2 and 3 of tn[8] are scratch */
     return (unsigned)_mm_movemask_ps(hit) << off;
 }
 
@@ -39,26 +48,10 @@ WIDE_FN unsigned box8(const wide_ray *r, const void *node, float t0, float t1, f
     return box4_at(r, rows, 8, 0, t0, t1, tn) | box4_at(r, rows, 8, 4, t0, t1, tn);
 }
 
-/* A BVH2 node: both children in the low two lanes (each row's two floats
- * loaded as one 64-bit word, the high lanes zero and masked off). */
+/* A BVH2 node: both children in the low two lanes. */
 WIDE_FN unsigned box2(const wide_ray *r, const void *node, float t0, float t1, float *tn)
 {
-    const float *rows = &((const wide2_node *)node)->box[0][0];
-    __m128 a = _mm_set1_ps(t0), z = _mm_set1_ps(t1);
-    const __m128 scale = _mm_set1_ps(SLAB_FAR_SCALE);
-    for (uint32_t ax = 0; ax < 3; ax++) {
-        const __m128 o = _mm_set1_ps(r->org[ax]), inv = _mm_set1_ps(r->inv[ax]);
-        __m128 nr = _mm_castpd_ps(_mm_load_sd((const double *)(rows + r->near[ax] * 2)));
-        __m128 fr = _mm_castpd_ps(_mm_load_sd((const double *)(rows + r->far[ax] * 2)));
-        __m128 n = _mm_mul_ps(_mm_sub_ps(nr, o), inv);
-        __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(fr, o), inv), scale);
-        a = _mm_max_ps(n, a); /* a NaN n keeps a */
-        z = _mm_min_ps(f, z);
-    }
-    __m128 hit = _mm_and_ps(_mm_cmple_ps(a, z), _mm_and_ps(_mm_cmplt_ps(a, _mm_set1_ps(INFINITY)),
-                                                           _mm_cmpgt_ps(z, _mm_set1_ps(-INFINITY))));
-    _mm_storel_pi((__m64 *)tn, a);
-    return (unsigned)_mm_movemask_ps(hit) & 3u;
+    return box4_at(r, &((const wide2_node *)node)->box[0][0], 2, 0, t0, t1, tn) & 3u;
 }
 
 WIDE_ENTRY_POINTS(sse2, 2, box2)
