@@ -22,8 +22,8 @@
  *      builder bins splits), else clipped to the slab by clip() (for
  *      prims/ the exact clipping of prim_clip_bounds: Sutherland-Hodgman
  *      for triangles and polygons, rounded outward; 70 % of a Sponza
- *      build's time in perf, hence the estimate); it enters the first slab and exits the last
- *      (entry and exit counts, Stich's figure 3); sweeping both ways gives
+ *      build's time in perf, hence the estimate); it enters the first
+ *      slab and exits the last (entry and exit counts, Stich's figure 3); sweeping both ways gives
  *      every plane's cost ct A + ci (A(L) N(L) + A(R) N(R)) with N(L) the
  *      entries left of the plane and N(R) the exits right of it;
  *   3. the cheaper of the two; a node of at most max_leaf references
@@ -31,8 +31,8 @@
  *      one with no split is halved by count.
  * A spatial split's straddlers are clipped exactly (clip()) to each side
  * of the plane, whatever estimated the bins, so the boxes the tree keeps
- * bound their parts; one whose part on a side is empty (it only touches the plane) goes
- * to the other side only. Not done: reference unsplitting (s3.1's
+ * bound their parts; one whose part on a side is empty (it only touches
+ * the plane) goes to the other side only. Not done: reference unsplitting (s3.1's
  * "unsplitting" test of putting a straddler wholly on one side), which
  * would save some references; chopped binning finer than the bins.
  *
