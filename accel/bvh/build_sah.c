@@ -45,27 +45,10 @@ static inline uint32_t slot_of(float x, float lo, float scale, uint32_t bins)
     return f < (float)bins ? (uint32_t)f : bins - 1;
 }
 
-/* Growing the bins' boxes: x joins the accumulator acc only when it is
- * smaller (larger), which is fminf(acc, x) (fmaxf) for every x, NaN
- * included, as long as acc is not NaN (it starts at +-inf and only takes
- * values that compared). Written out because fminf and fmaxf are calls
- * into libm here (no -ffinite-math-only): perf of a bunny run found
- * them 9 % of all samples beside sah_split's own 27 %; the build went from
- * 230 to 62-108 ms (a loaded machine). Only the cost and the bin scale read these
- * boxes (areas and a lower bound), to which the sign of a zero makes no
- * difference, so the tree is the one box_union binned. */
-static inline float lo_of(float acc, float x) { return x < acc ? x : acc; }
-static inline float hi_of(float acc, float x) { return x > acc ? x : acc; }
-static inline box3 bin_union(box3 a, box3 b)
-{
-    a.lo = v3(lo_of(a.lo.x, b.lo.x), lo_of(a.lo.y, b.lo.y), lo_of(a.lo.z, b.lo.z));
-    a.hi = v3(hi_of(a.hi.x, b.hi.x), hi_of(a.hi.y, b.hi.y), hi_of(a.hi.z, b.hi.z));
-    return a;
-}
 static box3 centroid_bounds(const uint32_t *ids, uint32_t n, const vec3 *centroids)
 {
     box3 cb = box_empty();
-    for (uint32_t i = 0; i < n; i++) cb = bin_union(cb, (box3){centroids[ids[i]], centroids[ids[i]]});
+    for (uint32_t i = 0; i < n; i++) cb = box_union(cb, (box3){centroids[ids[i]], centroids[ids[i]]});
     return cb;
 }
 
@@ -99,7 +82,7 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
         for (int axis = 0; axis < 3; axis++) {
             if (!live[axis]) continue;
             bin_t *bn = &bins[axis][slot_of(v3_get(c, axis), axis_lo[axis], axis_scale[axis], nb)];
-            bn->box = bin_union(bn->box, bx);
+            bn->box = box_union(bn->box, bx);
             bn->count++;
         }
     }
@@ -112,7 +95,7 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
         box3 acc = box_empty();
         uint32_t cnt = 0;
         for (uint32_t k = nb - 1; k > 0; k--) {
-            acc = bin_union(acc, bin[k].box);
+            acc = box_union(acc, bin[k].box);
             cnt += bin[k].count;
             right[k - 1] = cnt ? (double)box_area(acc) * blocks(cnt, cfg->leaf_block) : -1.0; /* -1: empty side */
             right_box[k - 1] = acc;
@@ -120,7 +103,7 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
         acc = box_empty();
         cnt = 0;
         for (uint32_t k = 0; k + 1 < nb; k++) {
-            acc = bin_union(acc, bin[k].box);
+            acc = box_union(acc, bin[k].box);
             cnt += bin[k].count;
             if (!cnt || right[k] < 0.0) continue;
             double cost = cfg->cost_traversal * area + cfg->cost_intersect * ((double)box_area(acc) * blocks(cnt, cfg->leaf_block) + right[k]);
