@@ -13,9 +13,13 @@
  * ones' answers bit for bit; counters are plausible. A hand-made chain 100
  * levels deep overflows the 64-entry local stack, and the traversal still
  * finds the hit in the dropped subtree (the leaf-scan fallback), as it
- * does with a context stack of the right depth. */
+ * does with a context stack of the right depth. The builders' passes
+ * through box4 (accel/bvh/box4.h: bounds, centroid bounds, bvh_sah_best's
+ * bins and sweeps) give what a plain box_union pass per axis gives, bit
+ * for bit. */
 #include <stdlib.h>
 #include <string.h>
+#include "accel/bvh/build.h"
 #include "accel/bvh/bvh.h"
 #include "check.h"
 #include "scenes/scene.h"
@@ -425,6 +429,100 @@ static void test_split_bounds(void)
  * near the ray origin, so the depth-first walk always enters N_(k+1) first
  * and stacks real k: L entries. The reals lie nearer the deeper they are,
  * so the hit is in a leaf the 64-entry stack had to drop. */
+/* bvh_sah_best as a pass per axis with box_union and box_area (the
+ * binning of Wald 2007 written plainly), for test_sah_best. */
+static bvh_sah_choice sah_best_reference(const uint32_t *ids, uint32_t n, box3 box, const box3 *boxes,
+                                         const vec3 *cen, const bvh_config *cfg)
+{
+    box3 cb = box_empty();
+    for (uint32_t i = 0; i < n; i++) cb = box_grow(cb, cen[ids[i]]);
+    bvh_sah_choice ch = {.cost = INFINITY, .axis = -1, .slot = 0, .cb = cb, .left = box_empty(), .right = box_empty()};
+    uint32_t nb = cfg->bins, blk = cfg->leaf_block;
+    for (int axis = 0; axis < 3; axis++) {
+        float lo = v3_get(cb.lo, axis), ext = v3_get(cb.hi, axis) - lo;
+        if (!(ext > 0.0f)) continue;
+        float scale = (float)nb / ext;
+        box3 bb[256];
+        uint32_t bc[256] = {0};
+        for (uint32_t k = 0; k < nb; k++) bb[k] = box_empty();
+        for (uint32_t i = 0; i < n; i++) {
+            float f = (v3_get(cen[ids[i]], axis) - lo) * scale;
+            uint32_t k = !(f > 0.0f) ? 0 : f < (float)nb ? (uint32_t)f : nb - 1;
+            bb[k] = box_union(bb[k], boxes[ids[i]]);
+            bc[k]++;
+        }
+        for (uint32_t cut = 0; cut + 1 < nb; cut++) {
+            box3 l = box_empty(), r = box_empty();
+            uint32_t nl = 0, nr = 0;
+            for (uint32_t k = 0; k <= cut; k++) l = box_union(l, bb[k]), nl += bc[k];
+            for (uint32_t k = nb - 1; k > cut; k--) r = box_union(r, bb[k]), nr += bc[k];
+            if (!nl || !nr) continue;
+            double cost = cfg->cost_traversal * (double)box_area(box) +
+                          cfg->cost_intersect * ((double)box_area(l) * (double)((nl + blk - 1) / blk * blk) +
+                                                 (double)box_area(r) * (double)((nr + blk - 1) / blk * blk));
+            if (cost < ch.cost) ch.cost = cost, ch.axis = axis, ch.slot = cut, ch.left = l, ch.right = r;
+        }
+    }
+    return ch;
+}
+
+/* bvh_sah_best, bvh_centroid_bounds and bvh_ids_bounds against plain
+ * passes, on random subsets of boxes of every shape: random, flat on an
+ * axis, points, centroids all equal on one axis, signed zeros. */
+static void test_sah_best(void)
+{
+    enum { N = 3000 };
+    box3 *boxes = malloc(N * sizeof *boxes);
+    vec3 *cen = malloc(N * sizeof *cen);
+    uint32_t *ids = malloc(N * sizeof *ids);
+    CHECK(boxes && cen && ids);
+    if (!boxes || !cen || !ids) return;
+    static const uint32_t bins[] = {2, 3, 7, 16, 32, 256};
+    uint32_t bad = 0, cases = 0;
+    for (int round = 0; round < 60; round++) {
+        int shape = round % 5;
+        for (uint32_t i = 0; i < N; i++) {
+            vec3 a = rnd_v3(-10, 10), b = v3_add(a, rnd_v3(0, 3));
+            if (shape == 1) a.y = b.y = 2.5f;           /* flat */
+            if (shape == 2) b = a;                      /* points */
+            if (shape == 3) a.z = -1.0f, b.z = 1.0f;    /* centroids equal on z */
+            if (shape == 4) a.x = -0.0f, b.x = 0.0f;    /* signed zeros */
+            boxes[i] = (box3){a, b};
+            cen[i] = box_center(boxes[i]);
+        }
+        uint32_t n = 2 + (uint32_t)(rndd(0, 1) * (N - 2));
+        for (uint32_t i = 0; i < n; i++) ids[i] = (uint32_t)(rndd(0, 1) * N) % N;
+        box3 plain = box_empty(), plain_cb = box_empty();
+        for (uint32_t i = 0; i < n; i++) plain = box_union(plain, boxes[ids[i]]), plain_cb = box_grow(plain_cb, cen[ids[i]]);
+        box3 got = bvh_ids_bounds(ids, n, boxes), got_cb = bvh_centroid_bounds(ids, n, cen);
+        CHECK_MSG(memcmp(&got, &plain, sizeof got) == 0, "round %d: bvh_ids_bounds differs from box_union's", round);
+        CHECK_MSG(memcmp(&got_cb, &plain_cb, sizeof got) == 0, "round %d: bvh_centroid_bounds differs", round);
+        bvh_config cfg;
+        bvh_config_defaults(&cfg);
+        cfg.bins = bins[round % 6];
+        cfg.leaf_block = round % 2 ? 4 : 1;
+        cfg.cost_traversal = 2.0f;
+        bvh_sah_choice a = bvh_sah_best(ids, n, plain, boxes, cen, &cfg);
+        bvh_sah_choice r = sah_best_reference(ids, n, plain, boxes, cen, &cfg);
+        cases++;
+        /* The cost may differ in the last bits (the sweep sums left to
+         * right, the reference per cut); the cut and its boxes may not. */
+        bool same = a.axis == r.axis && (a.axis < 0 || (a.slot == r.slot && fabs(a.cost - r.cost) <= 1e-12 * r.cost &&
+                                                        memcmp(&a.left, &r.left, sizeof a.left) == 0 &&
+                                                        memcmp(&a.right, &r.right, sizeof a.right) == 0)) &&
+                    memcmp(&a.cb, &r.cb, sizeof a.cb) == 0;
+        if (!same) {
+            bad++;
+            fprintf(stderr, "round %d (n %u, bins %u): axis %d slot %u cost %.17g, reference axis %d slot %u cost %.17g\n",
+                    round, n, cfg.bins, a.axis, a.slot, a.cost, r.axis, r.slot, r.cost);
+        }
+    }
+    CHECK_MSG(bad == 0, "bvh_sah_best differs from the plain passes in %u of %u cases", bad, cases);
+    free(boxes);
+    free(cen);
+    free(ids);
+}
+
 static void test_overflow(void)
 {
     enum { L = 100 };
@@ -488,6 +586,7 @@ int main(void)
     test_denormal_extent();
     test_sbvh();
     test_split_bounds();
+    test_sah_best();
     test_soup_and_cluster();
     char err[512];
     scene_t *s = scene_load("bunny", err, sizeof err);

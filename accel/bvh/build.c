@@ -15,6 +15,7 @@
  * nodes land in its own range, so the tree, node numbers included, is the
  * same for every thread count. */
 #include "build.h"
+#include "box4.h"
 
 #include <pthread.h>
 #include <stdatomic.h>
@@ -97,9 +98,16 @@ const vec3 *bvh_centroids(const box3 *boxes, const vec3 *centroids, uint32_t n, 
 
 box3 bvh_centroid_bounds(const uint32_t *ids, uint32_t n, const vec3 *centroids)
 {
-    box3 cb = box_empty();
-    for (uint32_t i = 0; i < n; i++) cb = box_grow(cb, centroids[ids[i]]);
-    return cb;
+    box4 cb = box4_empty();
+    for (uint32_t i = 0; i < n; i++) cb = box4_union(cb, box4_point(&centroids[ids[i]]));
+    return box4_store(cb);
+}
+
+box3 bvh_ids_bounds(const uint32_t *ids, uint32_t n, const box3 *boxes)
+{
+    box4 b = box4_empty();
+    for (uint32_t i = 0; i < n; i++) b = box4_union(b, box4_load(&boxes[ids[i]]));
+    return box4_store(b);
 }
 
 void bvh_select(uint32_t *ids, uint32_t n, uint32_t k, const vec3 *centroids, int axis)
@@ -158,8 +166,7 @@ static void topdown_loop(bvh_t *b, task_t *tasks, uint32_t ntasks, uint32_t *nex
             continue;
         }
         bvh_node *node = &b->nodes[t.node];
-        node->box = box_empty();
-        for (uint32_t i = 0; i < cnt; i++) node->box = box_union(node->box, boxes[ids[i]]);
+        node->box = bvh_ids_bounds(ids, cnt, boxes);
         uint32_t m = cnt > 1 ? split(ids, cnt, node->box, boxes, cent, c) : 0;
         if (m == 0 && cnt > c->max_leaf) m = cnt / 2; /* a split function that declined: split by count */
         if (m == 0 || m >= cnt) {

@@ -251,8 +251,7 @@ int bvh_build_sbvh(bvh_t *b, const box3 *boxes, uint32_t n, const bvh_config *cf
     while (ntasks) {
         sbvh_task t = stack[--ntasks];
         bvh_node *node = &b->nodes[t.node];
-        node->box = box_empty();
-        for (uint32_t i = 0; i < t.n; i++) node->box = box_union(node->box, r.box[t.ids[i]]);
+        node->box = bvh_ids_bounds(t.ids, t.n, r.box);
         bvh_sah_choice obj = {.cost = INFINITY, .axis = -1};
         spatial_choice sp = {INFINITY, -1, 0, 0, 0};
         if (t.n > 1) {
