@@ -233,7 +233,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     if (!t || !boxes) goto oom;
     t->base.scene = scene;
     t->p = p;
-    t->isa = width == 2 && isa != WIDE_ISA_SCALAR ? WIDE_ISA_SSE42 : isa; /* the kernel that runs */
+    t->isa = wide_isa_running(isa, width); /* the kernel that runs */
     t->k = wide_kernels_for(isa, width);
 
     /* The kit's binary tree over the primitives' boxes. */
@@ -294,22 +294,22 @@ fail:
     return NULL;
 }
 
-/* isa=auto as build() will resolve it on this CPU; at width=2 every SIMD
- * ISA runs the SSE4.2 kernel (wide_kernels_for), so the params say sse42. */
+/* The params say the ISA that runs: isa=auto as build() will resolve it
+ * on this CPU, then wide_isa_running's rule (at width=2 every SIMD ISA
+ * runs the SSE4.2 kernel, so they say sse42). */
 static void champ_settle_params(accel_params *params)
 {
-    bool binary = false;
+    uint32_t width = 8;
     for (int i = 0; i < params->count; i++)
-        if (!strcmp(params->table[i].name, "width")) binary = !strcmp(params->values[i], "2");
+        if (!strcmp(params->table[i].name, "width")) width = (uint32_t)atoi(params->values[i]);
     for (int i = 0; i < params->count; i++) {
         if (strcmp(params->table[i].name, "isa")) continue;
         if (!strcmp(params->values[i], "auto"))
             snprintf(params->values[i], sizeof params->values[i], "%s", wide_isa_names[wide_isa_best()]);
-        bool supported = false; /* an ISA this CPU lacks stays, for build() to refuse */
-        for (int k = 0; k < WIDE_ISA_COUNT; k++)
-            if (!strcmp(params->values[i], wide_isa_names[k])) supported = wide_isa_supported((wide_isa)k);
-        if (binary && supported && strcmp(params->values[i], "scalar"))
-            snprintf(params->values[i], sizeof params->values[i], "%s", wide_isa_names[WIDE_ISA_SSE42]);
+        for (int k = 0; k < WIDE_ISA_COUNT; k++) /* an ISA this CPU lacks stays, for build() to refuse */
+            if (!strcmp(params->values[i], wide_isa_names[k]) && wide_isa_supported((wide_isa)k))
+                snprintf(params->values[i], sizeof params->values[i], "%s",
+                         wide_isa_names[wide_isa_running((wide_isa)k, width)]);
     }
 }
 

@@ -118,6 +118,11 @@ extern const char *const wide_isa_names[WIDE_ISA_COUNT + 1]; /* "scalar", "sse42
 bool wide_isa_supported(wide_isa isa);
 /* The best supported one. */
 wide_isa wide_isa_best(void);
+/* The ISA whose kernels run for isa at width: isa itself, but at width 2
+ * every SIMD ISA runs the SSE4.2 kernels (two children fill half a 128-bit
+ * register; wider ones would add nothing). The one place that rule is
+ * written: the kernel table, the tree's isa and the CSV's params follow it. */
+wide_isa wide_isa_running(wide_isa isa, uint32_t width);
 
 typedef struct {
     void *nodes;        /* [nnodes] wide2_node, wide4_node or wide8_node, 64-byte aligned */
@@ -189,10 +194,9 @@ typedef struct {
     bool (*occluded_fast)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray);
 } wide_kernels;
 
-/* The kernels of isa for width 2, 4 or 8; NULL when this build has none
- * for it (a non-x86 target: only scalar). Width 2 under avx2 and avx512
- * runs the SSE4.2 kernels: two children fill half a 128-bit register,
- * wider ones would add nothing. */
+/* The kernels of isa for width 2, 4 or 8 (those of
+ * wide_isa_running(isa, width)); NULL when this build has none for it (a
+ * non-x86 target: only scalar). */
 const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width);
 
 /* Per ISA, [0] width 4, [1] width 8, [2] width 2 (scalar and sse42 only)

@@ -27,17 +27,16 @@ wide_isa wide_isa_best(void)
     return WIDE_ISA_SCALAR;
 }
 
+wide_isa wide_isa_running(wide_isa isa, uint32_t width)
+{
+    return width == 2 && isa != WIDE_ISA_SCALAR && isa < WIDE_ISA_COUNT ? WIDE_ISA_SSE42 : isa;
+}
+
 const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width)
 {
-    int k = width == 8;
-    if (width == 2) {
-        /* BVH2: scalar, or the SSE4.2 kernel for every SIMD ISA (wide.h). */
-        if (isa == WIDE_ISA_SCALAR) return &wide_kernels_scalar[2];
-#if defined(__x86_64__) || defined(__i386__)
-        if (isa < WIDE_ISA_COUNT) return &wide_kernels_sse42[2];
-#endif
-        return NULL;
-    }
+    int k = width == 8 ? 1 : width == 2 ? 2 : 0; /* the tables' order: width 4, 8, 2 */
+    isa = wide_isa_running(isa, width);
+    if (width == 2 && isa > WIDE_ISA_SSE42) return NULL; /* the avx2 and avx512 tables have no width 2 */
     switch (isa) {
     case WIDE_ISA_SCALAR: return &wide_kernels_scalar[k];
 #if defined(__x86_64__) || defined(__i386__)
