@@ -28,6 +28,7 @@
  * cut a touching vertex away), for spheres and cones when
  * prim_overlaps_box() says so. */
 #include <float.h>
+#include "box4.h"
 #include "prims.h"
 #include "prims_internal.h"
 
@@ -168,20 +169,22 @@ void prim_split_bounds(const prims_t *p, uint32_t id, box3 box, int axis, float 
     }
     vec3 v[3];
     tri_verts(p, p->index[id], &v[0], &v[1], &v[2]);
-    box3 l = box_empty(), r = box_empty();
+    box4 l = box4_empty(), r = box4_empty(); /* box_union's boxes, in registers (box4.h) */
     for (int i = 0; i < 3; i++) {
         vec3 a = v[i], b = v[(i + 1) % 3];
         float da = v3_get(a, axis) - pos, db = v3_get(b, axis) - pos;
-        if (da <= 0.0f) l = box_union(l, (box3){a, a});
-        if (da >= 0.0f) r = box_union(r, (box3){a, a});
+        box4 pa = box4_point(&v[i]);
+        if (da <= 0.0f) l = box4_union(l, pa);
+        if (da >= 0.0f) r = box4_union(r, pa);
         if ((da < 0.0f && db > 0.0f) || (da > 0.0f && db < 0.0f)) {
             vec3 c = v3_add(a, v3_scale(v3_sub(b, a), da / (da - db)));
             float *cc = &c.x;
             cc[axis] = pos;
-            l = box_union(l, (box3){c, c});
-            r = box_union(r, (box3){c, c});
+            box4 pc = box4_point(&c);
+            l = box4_union(l, pc);
+            r = box4_union(r, pc);
         }
     }
-    *left = box_meet(l, lh);
-    *right = box_meet(r, rh);
+    *left = box_meet(box4_store(l), lh);
+    *right = box_meet(box4_store(r), rh);
 }

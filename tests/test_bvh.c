@@ -14,9 +14,9 @@
  * levels deep overflows the 64-entry local stack, and the traversal still
  * finds the hit in the dropped subtree (the leaf-scan fallback), as it
  * does with a context stack of the right depth. The builders' passes
- * through box4 (accel/bvh/box4.h: bounds, centroid bounds, bvh_sah_best's
+ * through box4 (prims/box4.h: bounds, centroid bounds, bvh_sah_best's
  * bins and sweeps) give what a plain box_union pass per axis gives, bit
- * for bit. */
+ * for bit (prim_split_bounds's own use of box4 is checked by test_prims). */
 #include <stdlib.h>
 #include <string.h>
 #include "accel/bvh/build.h"

@@ -5,13 +5,16 @@
  * degenerate triangles, counters. Spheres: outside, inside, tangent,
  * non-unit directions, the t range, a tiny far sphere. prims_finish
  * validation, triangle/sphere box overlap, float vs double agreement and
- * boundary distances.
+ * boundary distances. box4 (the builders' boxes in registers) as
+ * box_union and box_area bit for bit, and prim_split_bounds through it as
+ * the same computation with box_union.
  *
  * Build: gcc -O2 -std=gnu11 -Wall -Wextra -D_GNU_SOURCE -o /tmp/test_prims \
  *   tests/test_prims.c prims/prims.c prims/triangle.c prims/sphere.c prims/cone.c \
  *   prims/polygon.c prims/overlap.c -lm
  * (Cones, polygons and polygon_triangulate are tested in test_prims_shapes.c.)
  * Random inputs come from a fixed seed, so every run tests the same rays. */
+#include "../prims/box4.h"
 #include "../prims/prims.h"
 #include "../prims/prims_internal.h"
 #include "check.h"
@@ -1069,9 +1072,98 @@ static void test_min_max_as_libm(void)
     printf("f_min/f_max: %u ordered pairs as fminf/fmaxf\n", pairs);
 }
 
+/* box4's union, point, store and area against box_union, box_grow and
+ * box_area, bit for bit, on random boxes with special values (signed zeros,
+ * infinities, NaN in the box that is added). */
+static void test_box4_as_box_union(void)
+{
+    const float special[] = {0.0f, -0.0f, INFINITY, -INFINITY, NAN, FLT_MAX, -FLT_MAX, FLT_TRUE_MIN, 1.0f};
+    uint32_t differ = 0, cases = 0;
+    for (int i = 0; i < 20000; i++) {
+        box3 acc = box_empty(), b;
+        box4 acc4 = box4_empty();
+        for (int k = 0; k < 8; k++) {
+            float f[6];
+            for (int j = 0; j < 6; j++)
+                f[j] = (i + j + k) % 7 == 0 ? special[(i * 3 + j + k) % 9] : rnd(-100.0f, 100.0f);
+            b = (box3){{f[0], f[1], f[2]}, {f[3], f[4], f[5]}};
+            if (k % 3 == 2) {
+                acc = box_grow(acc, b.lo);
+                acc4 = box4_union(acc4, box4_point(&b.lo));
+            } else {
+                acc = box_union(acc, b);
+                acc4 = box4_union(acc4, box4_load(&b));
+            }
+            box3 got = box4_store(acc4);
+            float a = box_area(acc), a4 = box4_area(acc4);
+            cases++;
+            differ += memcmp(&got, &acc, sizeof got) != 0 || (float_bits(a) != float_bits(a4) && !(isnan(a) && isnan(a4)));
+        }
+    }
+    CHECK_MSG(differ == 0, "box4 differs from box_union/box_area in %u of %u steps", differ, cases);
+}
+
+/* prim_split_bounds's arithmetic with box_union (the chopped triangle's
+ * two sides: vertices on each side, crossing points on both). */
+static void split_bounds_reference(const vec3 v[3], box3 box, int axis, float pos, box3 *left, box3 *right)
+{
+    box3 lh = box, rh = box;
+    (&lh.hi.x)[axis] = pos;
+    (&rh.lo.x)[axis] = pos;
+    box3 l = box_empty(), r = box_empty();
+    for (int i = 0; i < 3; i++) {
+        vec3 a = v[i], b = v[(i + 1) % 3];
+        float da = v3_get(a, axis) - pos, db = v3_get(b, axis) - pos;
+        if (da <= 0.0f) l = box_union(l, (box3){a, a});
+        if (da >= 0.0f) r = box_union(r, (box3){a, a});
+        if ((da < 0.0f && db > 0.0f) || (da > 0.0f && db < 0.0f)) {
+            vec3 c = v3_add(a, v3_scale(v3_sub(b, a), da / (da - db)));
+            (&c.x)[axis] = pos;
+            l = box_union(l, (box3){c, c});
+            r = box_union(r, (box3){c, c});
+        }
+    }
+    *left = box_meet(l, lh);
+    *right = box_meet(r, rh);
+}
+
+static void test_split_bounds_box4(void)
+{
+    prims_t p;
+    prims_init(&p);
+    for (int i = 0; i < 500; i++) {
+        vec3 c = rnd_v3(-5, 5);
+        vec3 a = v3_add(c, rnd_v3(-3, 3)), b = v3_add(c, rnd_v3(-3, 3)), d = v3_add(c, rnd_v3(-3, 3));
+        if (i % 5 == 0) a.y = b.y = -0.0f, d.y = 0.0f; /* in a plane through signed zeros */
+        prims_add_triangle(&p, prims_add_vertex(&p, a), prims_add_vertex(&p, b), prims_add_vertex(&p, d));
+    }
+    CHECK(prims_finish(&p, NULL, 0) == 0);
+    uint32_t differ = 0, cases = 0;
+    for (uint32_t id = 0; id < p.count; id++) {
+        vec3 v[3];
+        tri_verts(&p, p.index[id], &v[0], &v[1], &v[2]);
+        for (int axis = 0; axis < 3; axis++) {
+            box3 box = p.bounds[id];
+            float lo = v3_get(box.lo, axis), hi = v3_get(box.hi, axis);
+            const float at[] = {lo, hi, 0.0f, -0.0f, lo + (hi - lo) * rnd(0.0f, 1.0f), v3_get(v[1], axis)};
+            for (int k = 0; k < 6; k++) {
+                box3 l, r, el, er;
+                prim_split_bounds(&p, id, box, axis, at[k], &l, &r);
+                split_bounds_reference(v, box, axis, at[k], &el, &er);
+                cases++;
+                differ += memcmp(&l, &el, sizeof l) != 0 || memcmp(&r, &er, sizeof r) != 0;
+            }
+        }
+    }
+    CHECK_MSG(differ == 0, "prim_split_bounds differs from its box_union form in %u of %u splits", differ, cases);
+    prims_free(&p);
+}
+
 int main(void)
 {
     test_min_max_as_libm();
+    test_box4_as_box_union();
+    test_split_bounds_box4();
     test_triangle_basic();
     test_triangle_edges_vertices();
     test_watertight_quad();

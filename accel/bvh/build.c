@@ -15,7 +15,7 @@
  * nodes land in its own range, so the tree, node numbers included, is the
  * same for every thread count. */
 #include "build.h"
-#include "box4.h"
+#include "../../prims/box4.h"
 
 #include <pthread.h>
 #include <stdatomic.h>

@@ -49,7 +49,7 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
                             const bvh_config *cfg);
 uint32_t bvh_sah_partition(uint32_t *ids, uint32_t n, const vec3 *centroids, const bvh_sah_choice *ch, uint32_t bins);
 double bvh_sah_leaf_cost(uint32_t n, box3 box, const bvh_config *cfg);
-/* Centroid bounds of ids[0 .. n), and the union of their boxes (box4.h). */
+/* Centroid bounds of ids[0 .. n), and the union of their boxes (prims/box4.h). */
 box3 bvh_centroid_bounds(const uint32_t *ids, uint32_t n, const vec3 *centroids);
 box3 bvh_ids_bounds(const uint32_t *ids, uint32_t n, const box3 *boxes);
 /* Reorder ids[0 .. n) so that ids[k] holds the primitive of k-th smallest

@@ -24,7 +24,7 @@
  * Tracing", ACM TOG 33(4), 2014, section 4.3: leaves of Triangle4 blocks),
  * so a node of 4 triangles stays one full packet instead of two halves. */
 #include <stdlib.h>
-#include "box4.h"
+#include "../../prims/box4.h"
 #include "build.h"
 
 #define SAH_MAX_BINS 256
@@ -59,7 +59,7 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
     /* The three axes binned in one pass over the primitives (Wald 2007
      * bins all three at once): each box and centroid is fetched through
      * ids once instead of once per axis, into the bins a pass per axis
-     * fills. Boxes as box4 (box4.h): the same bins, faster. */
+     * fills. Boxes as box4 (prims/box4.h): the same bins, faster. */
     float axis_lo[3] = {0}, axis_scale[3] = {0};
     bool live[3] = {false};
     bin_t bins[3][SAH_MAX_BINS];

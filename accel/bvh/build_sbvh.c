@@ -58,6 +58,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "../../prims/box4.h"
 #include "build.h"
 
 #define SBVH_MAX_BINS 256
@@ -76,7 +77,7 @@ typedef struct {
 } sbvh_task;
 
 typedef struct {
-    box3 box;
+    box4 box; /* prims/box4.h: the same bins as box3 with box_union, faster */
     uint32_t entry, exit;
 } sbin_t;
 
@@ -132,7 +133,7 @@ static spatial_choice spatial_best(const refs_t *r, const uint32_t *ids, uint32_
     for (int axis = 0; axis < 3; axis++) {
         float lo = v3_get(box.lo, axis), hi = v3_get(box.hi, axis);
         if (!(hi > lo)) continue;
-        for (uint32_t k = 0; k < nb; k++) bins[k] = (sbin_t){box_empty(), 0, 0};
+        for (uint32_t k = 0; k < nb; k++) bins[k] = (sbin_t){box4_empty(), 0, 0};
         for (uint32_t i = 0; i < n; i++) {
             uint32_t id = ids[i];
             box3 rb = r->box[id];
@@ -140,7 +141,7 @@ static spatial_choice spatial_best(const refs_t *r, const uint32_t *ids, uint32_
             bins[b0].entry++;
             bins[b1].exit++;
             if (b0 == b1) {
-                bins[b0].box = box_union(bins[b0].box, rb);
+                bins[b0].box = box4_union(bins[b0].box, box4_load(&rb));
                 continue;
             }
             if (s->split) { /* chopped from the left, one plane at a time (Embree's binning of splits) */
@@ -148,34 +149,35 @@ static spatial_choice spatial_best(const refs_t *r, const uint32_t *ids, uint32_
                 for (uint32_t k = b0; k < b1; k++) {
                     box3 part;
                     s->split(s->ctx, r->prim[id], rest, axis, plane_at(lo, hi, k + 1, nb), &part, &rest);
-                    bins[k].box = box_union(bins[k].box, part);
+                    bins[k].box = box4_union(bins[k].box, box4_load(&part));
                 }
-                bins[b1].box = box_union(bins[b1].box, rest);
+                bins[b1].box = box4_union(bins[b1].box, box4_load(&rest));
                 continue;
             }
             for (uint32_t k = b0; k <= b1; k++) {
                 box3 slab = with_axis(rb, axis, plane_at(lo, hi, k, nb), plane_at(lo, hi, k + 1, nb));
-                bins[k].box = box_union(bins[k].box, s->clip(s->ctx, r->prim[id], slab));
+                box3 part = s->clip(s->ctx, r->prim[id], slab);
+                bins[k].box = box4_union(bins[k].box, box4_load(&part));
             }
         }
         double right[SBVH_MAX_BINS];
         uint32_t right_n[SBVH_MAX_BINS];
-        box3 acc = box_empty();
+        box4 acc = box4_empty();
         uint32_t cnt = 0;
         for (uint32_t k = nb - 1; k > 0; k--) {
-            acc = box_union(acc, bins[k].box);
+            acc = box4_union(acc, bins[k].box);
             cnt += bins[k].exit;
-            right[k - 1] = cnt ? (double)box_area(acc) * blocks_of(cnt, c->leaf_block) : -1.0;
+            right[k - 1] = cnt ? (double)box4_area(acc) * blocks_of(cnt, c->leaf_block) : -1.0;
             right_n[k - 1] = cnt;
         }
-        acc = box_empty();
+        acc = box4_empty();
         cnt = 0;
         for (uint32_t k = 0; k + 1 < nb; k++) {
-            acc = box_union(acc, bins[k].box);
+            acc = box4_union(acc, bins[k].box);
             cnt += bins[k].entry;
             if (!cnt || right[k] < 0.0 || cnt >= n || right_n[k] >= n) continue; /* both sides fewer than n */
             double cost = c->cost_traversal * area +
-                          c->cost_intersect * ((double)box_area(acc) * blocks_of(cnt, c->leaf_block) + right[k]);
+                          c->cost_intersect * ((double)box4_area(acc) * blocks_of(cnt, c->leaf_block) + right[k]);
             if (cost < best.cost) best = (spatial_choice){cost, axis, k + 1, cnt, right_n[k]};
         }
     }
