@@ -131,16 +131,23 @@ done
 [ $up = 1 ] && ok || give_up "the node is not idle after 30 s (sinfo: '${st:-nothing}')"
 t_up=$(date +%s.%N)
 
+# job_states ID: the states of a job's tasks, sorted, one space after each
+job_states() { scontrol show job "$1" 2> /dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | sort -u | tr '\n' ' '; }
 # wait_job ID: until it has left the queue; prints its final state (scontrol keeps it MinJobAge seconds)
 wait_job() {
     local st=""
     for _ in $(seq 1 1500); do
-        st=$(scontrol show job "$1" 2> /dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | sort -u | tr '\n' ' ')
         if grep -q "DependencyNeverSatisfied" <(scontrol show job "$1" 2> /dev/null); then echo "NEVER"; return; fi
-        [ -n "$(squeue -h -j "$1" 2> /dev/null)" ] || { echo "${st% }"; return; }
+        if [ -z "$(squeue -h -j "$1" 2> /dev/null)" ]; then
+            # Read the state after the job has left the queue, not before: a
+            # state read first can be COMPLETING from just before it ended
+            # (CI saw "merge job 2: COMPLETING" for a merge that had succeeded).
+            st=$(job_states "$1")
+            case " $st" in *" COMPLETING "*) ;; *) echo "${st% }"; return ;; esac
+        fi
         sleep 0.2
     done
-    echo "TIMEOUT ${st% }"
+    echo "TIMEOUT $(job_states "$1")"
 }
 
 # --- a 4-shard matrix through submit.sh
