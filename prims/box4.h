@@ -15,11 +15,11 @@
  * Bit for bit box_union's: _mm_min_ps(x, acc) is x < acc ? x : acc, which
  * is f_min(acc, x) whenever acc is not NaN, and an accumulator starts at
  * +-inf and only ever takes a value of x that won a comparison, never a
- * NaN one (box4_max likewise). So the trees built through box4 are the
- * ones box_union gives (tests/test_bvh.c checks bvh_sah_best's choice
- * against a plain pass per axis, tests/test_prims.c prim_split_bounds
- * against the same computation with box_union). Without SSE2, box4 is box3 and these are
- * box_union and box_area. */
+ * NaN one (_mm_max_ps and f_max likewise). So the trees built through
+ * box4 are the ones box_union gives (tests/test_bvh.c checks bvh_sah_best's
+ * choice against a plain pass per axis, tests/test_prims.c box4 against
+ * box_union and prim_split_bounds against its box_union form). Without
+ * SSE2, box4 is box3 and these are box_union and box_area. */
 #ifndef ACCELBENCH_PRIMS_BOX4_H
 #define ACCELBENCH_PRIMS_BOX4_H
 

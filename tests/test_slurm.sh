@@ -147,7 +147,8 @@ wait_job() {
         fi
         sleep 0.2
     done
-    echo "TIMEOUT $(job_states "$1")"
+    st=$(job_states "$1")
+    echo "TIMEOUT ${st% }"
 }
 
 # --- a 4-shard matrix through submit.sh

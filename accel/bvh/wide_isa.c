@@ -35,8 +35,7 @@ wide_isa wide_isa_running(wide_isa isa, uint32_t width)
 const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width)
 {
     int k = width == 8 ? 1 : width == 2 ? 2 : 0; /* the tables' order: width 4, 8, 2 */
-    isa = wide_isa_running(isa, width);
-    if (width == 2 && isa > WIDE_ISA_SSE42) return NULL; /* the avx2 and avx512 tables have no width 2 */
+    isa = wide_isa_running(isa, width); /* at width 2: scalar or sse42, the tables that have it */
     switch (isa) {
     case WIDE_ISA_SCALAR: return &wide_kernels_scalar[k];
 #if defined(__x86_64__) || defined(__i386__)
