@@ -29,6 +29,9 @@
  *               traversal on gen:room, width=2 leafsize=1 against
  *               exhaustive on the bunny, and its build over 1, 2 and 3
  *               threads (in threads)
+ *   octant      order=octant: every ISA against scalar (in simd), answers
+ *               as exhaustive's on the bunny, wide_check refusing a
+ *               swapped or repeating octant order
  *   refusals    width=5, isa=neon, leafsize=0, bins=1; an ISA the CPU lacks
  *   settle      isa=auto settles to the ISA build() picks */
 #include <string.h>
@@ -195,6 +198,8 @@ static void test_simd(void)
         scene_t *s = test_scene(names[i]);
         accel *embree = test_build("embree", s, 2);
         simd_vs_scalar(s, embree, 48, "");
+        /* order=octant: the scalar push and AVX-512's vector push the same entries in the same order */
+        simd_vs_scalar(s, embree, 32, ",order=octant");
         if (i == 2) simd_vs_scalar(s, embree, 32, ",leafsize=1"); /* leafsize=1 on the bunny */
         embree->ops->destroy(embree);
         scene_free(s);
@@ -436,6 +441,29 @@ static void test_refusals(void)
     scene_free(s);
 }
 
+/* order=octant: answers as exhaustive's on the bunny; wide_check sees a
+ * node's octant order swapped or made to repeat a slot. */
+static void test_octant(void)
+{
+    scene_t *s = test_scene("bunny");
+    against_exhaustive(s, "order=octant", 24, true);
+    accel *a = champ_with(s, "order=octant,width=8");
+    wide_bvh *w = (wide_bvh *)bvh_champion_tree(a, NULL);
+    const prims_t *p = &s->prims;
+    char err[256];
+    uint32_t *order = (uint32_t *)((char *)w->nodes + 240), keep = order[1];
+    order[1] = (keep & ~077u) | (keep & 07) << 3 | (keep >> 3 & 07); /* positions 0 and 1 swapped */
+    CHECK_MSG(keep == order[1] || wide_check(w, p->bounds, p->count, err, sizeof err) != 0, "a swapped order passes");
+    printf("swapped octant order: %s\n", err);
+    order[1] = (keep & ~07u) | (keep >> 3 & 07); /* position 0 repeats position 1's slot */
+    CHECK_MSG(wide_check(w, p->bounds, p->count, err, sizeof err) != 0, "a repeated slot passes");
+    printf("repeated slot: %s\n", err);
+    order[1] = keep;
+    CHECK(wide_check(w, p->bounds, p->count, err, sizeof err) == 0);
+    a->ops->destroy(a);
+    scene_free(s);
+}
+
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -446,5 +474,6 @@ int main(void)
     test_memcap();
     test_threads();
     test_sbvh();
+    test_octant();
     return check_report();
 }

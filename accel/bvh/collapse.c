@@ -81,6 +81,34 @@ static void set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t ch
     counts[k] = (uint8_t)count;
 }
 
+/* Node ni's slot orders per octant (wide.h): the n used slots by the
+ * centres of their boxes projected on the octant's diagonal, ascending,
+ * ties by slot (an insertion sort: stable), then the unused slots. */
+static void set_orders(wide_bvh *w, uint32_t ni, uint32_t n)
+{
+    const uint32_t W = w->width;
+    char *node = (char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(W);
+    const float *rows = WIDE_ROWS(node);
+    for (uint32_t oct = 0; oct < WIDE_OCTANTS; oct++) {
+        const float sy = oct & 1 ? -1.0f : 1.0f, sz = oct & 2 ? -1.0f : 1.0f;
+        float key[8];
+        uint32_t ord[8];
+        for (uint32_t k = 0; k < W; k++) {
+            /* twice the centre: the order is the same */
+            key[k] = (rows[0 * W + k] + rows[1 * W + k]) + sy * (rows[2 * W + k] + rows[3 * W + k]) +
+                     sz * (rows[4 * W + k] + rows[5 * W + k]);
+            uint32_t j = k;
+            while (k < n && j > 0 && key[ord[j - 1]] > key[k]) ord[j] = ord[j - 1], j--;
+            ord[j] = k;
+        }
+        uint32_t packed = 0;
+        for (uint32_t i = 0; i < W; i++) packed |= ord[i] << (3 * i);
+        if (W == 2) ((uint8_t *)(node + 60))[oct] = (uint8_t)packed;
+        else if (W == 4) ((uint16_t *)(node + 120))[oct] = (uint16_t)packed;
+        else ((uint32_t *)(node + 240))[oct] = packed;
+    }
+}
+
 int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width)
 {
     memset(w, 0, sizeof *w);
@@ -120,6 +148,7 @@ int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width)
             pending[np++] = list[k], pending[np++] = child, pending[np++] = depth + 1;
         }
         WIDE_NCHILDREN((char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(width), width) = (uint8_t)n;
+        set_orders(w, ni, n);
         w->nchildren += n;
     }
     free(pending);

@@ -34,10 +34,22 @@
  *              WIDE_PACKED set; WIDE_EMPTY for an unused slot;
  *   count[W]   uint8: a leaf's primitives (1..255), 0 for an interior child;
  *   nchildren  uint8: used slots, always the first ones;
- *   padding to a multiple of the 64-byte cache line.
- *   BVH2: 2*6*4 + 2*4 + 2 + 1 = 59 bytes used, 64 with padding (1 line);
- *   BVH4: 4*6*4 + 4*4 + 4 + 1 = 117 bytes used, 128 with padding (2 lines);
- *   BVH8: 8*6*4 + 8*4 + 8 + 1 = 233 bytes used, 256 with padding (4 lines).
+ *   padding, then
+ *   order[4]   the slots front to back for rays of each octant with x >= 0
+ *              (WIDE_ORDER), 3 bits a position in a uint8 (W=2), uint16
+ *              (W=4) or uint32 (W=8), in the last 2W bytes of the node: the
+ *              used slots sorted by the centres of their boxes projected on
+ *              the octant's diagonal (nearest first, ties by slot), then the
+ *              unused ones. The closest-hit walk takes the children it hits
+ *              in this order (`order=octant`) instead of sorting them by
+ *              entry distance (`order=distance`): the order of Ylitie,
+ *              Karras and Laine, "Efficient Incoherent Ray Traversal on
+ *              GPUs Through Compressed Wide BVHs", HPG 2017, section 3.2,
+ *              which assigns the children to slots by octant; here a
+ *              permutation per octant leaves the slots as they are.
+ *   BVH2: 2*6*4 + 2*4 + 2 + 1 + 1 + 4 = 64 bytes (1 line);
+ *   BVH4: 4*6*4 + 4*4 + 4 + 1 + 3 + 8 = 128 bytes (2 lines);
+ *   BVH8: 8*6*4 + 8*4 + 8 + 1 + 7 + 16 = 256 bytes (4 lines).
  * Memory layout: nodes[nnodes] (64-byte aligned; node 0 the root, which is
  * always interior: a tree whose binary root is a leaf gets a root of one
  * leaf child), then refs[nrefs] uint32 primitive ids, each leaf's a
@@ -47,8 +59,9 @@
  * ceil(count / 4) of them contiguous, 64-byte aligned. An empty scene has
  * nnodes == 0. Total = node bytes * nnodes + 4 nrefs + 160 npackets
  * (wide_memory()).
- * Per context: the traversal stack, 12 bytes an entry, (W - 1) (depth + 1)
- * + 1 entries: enough for any walk of this tree (wide_stack_cap()). */
+ * Per context: the traversal stack (wide_stack), 12 bytes an entry,
+ * (W - 1) (depth + 1) + 1 entries, enough for any walk of this tree
+ * (wide_stack_cap()), and WIDE_STACK_SLACK more. */
 #ifndef ACCELBENCH_BVH_WIDE_H
 #define ACCELBENCH_BVH_WIDE_H
 
@@ -73,41 +86,57 @@ typedef struct {
     uint32_t child[2]; /*  8 */
     uint8_t count[2];  /*  2 */
     uint8_t nchildren; /*  1 */
-    uint8_t pad[5];    /*  5: to 64 */
+    uint8_t pad;       /*  1 */
+    uint8_t order[4];  /*  4: the slots nearest first per octant (WIDE_ORDER) */
 } wide2_node;
-_Static_assert(sizeof(wide2_node) == 64, "wide2_node: 2*6*4 + 2*4 + 2 + 1 = 59 bytes used, 64 (one cache line)");
+_Static_assert(sizeof(wide2_node) == 64, "wide2_node: 2*6*4 + 2*4 + 2 + 1 + 1 + 4 = 64 bytes (one cache line)");
 
 typedef struct {
     float box[6][4];   /* 96: planes of the 4 children, SoA (rows above) */
     uint32_t child[4]; /* 16: node index, WIDE_LEAF | first ref, or WIDE_EMPTY */
     uint8_t count[4];  /*  4: leaf primitives, 0 for interior */
     uint8_t nchildren; /*  1: used slots */
-    uint8_t pad[11];   /* 11: to 128 */
+    uint8_t pad[3];    /*  3 */
+    uint16_t order[4]; /*  8: the slots nearest first per octant (WIDE_ORDER) */
 } wide4_node;
-_Static_assert(sizeof(wide4_node) == 128, "wide4_node: 4*6*4 + 4*4 + 4 + 1 = 117 bytes used, 128 (two cache lines)");
+_Static_assert(sizeof(wide4_node) == 128, "wide4_node: 4*6*4 + 4*4 + 4 + 1 + 3 + 8 = 128 bytes (two cache lines)");
 
 typedef struct {
     float box[6][8];
     uint32_t child[8];
     uint8_t count[8];
     uint8_t nchildren;
-    uint8_t pad[23];
+    uint8_t pad[7];
+    uint32_t order[4];
 } wide8_node;
-_Static_assert(sizeof(wide8_node) == 256, "wide8_node: 8*6*4 + 8*4 + 8 + 1 = 233 bytes used, 256 (four cache lines)");
+_Static_assert(sizeof(wide8_node) == 256, "wide8_node: 8*6*4 + 8*4 + 8 + 1 + 7 + 16 = 256 bytes (four cache lines)");
 
 /* Every layout is box[6][W], child[W], count[W], nchildren at the same
  * offsets in units of W, so one accessor serves all widths. */
 #define WIDE_NODE_BYTES(W) ((W) == 2 ? sizeof(wide2_node) : (W) == 4 ? sizeof(wide4_node) : sizeof(wide8_node))
 _Static_assert(offsetof(wide2_node, child) == 24 * 2 && offsetof(wide2_node, count) == 28 * 2 &&
-                   offsetof(wide2_node, nchildren) == 29 * 2, "wide2_node layout");
+                   offsetof(wide2_node, nchildren) == 29 * 2 && offsetof(wide2_node, order) == 30 * 2,
+               "wide2_node layout");
 _Static_assert(offsetof(wide4_node, child) == 24 * 4 && offsetof(wide4_node, count) == 28 * 4 &&
-                   offsetof(wide4_node, nchildren) == 29 * 4, "wide4_node layout");
+                   offsetof(wide4_node, nchildren) == 29 * 4 && offsetof(wide4_node, order) == 30 * 4,
+               "wide4_node layout");
 _Static_assert(offsetof(wide8_node, child) == 24 * 8 && offsetof(wide8_node, count) == 28 * 8 &&
-                   offsetof(wide8_node, nchildren) == 29 * 8, "wide8_node layout");
+                   offsetof(wide8_node, nchildren) == 29 * 8 && offsetof(wide8_node, order) == 30 * 8,
+               "wide8_node layout");
 #define WIDE_ROWS(node) ((float *)(node))
 #define WIDE_CHILD(node, W) ((uint32_t *)((char *)(node) + 24 * (W)))
 #define WIDE_COUNT(node, W) ((uint8_t *)((char *)(node) + 28 * (W)))
 #define WIDE_NCHILDREN(node, W) (*((uint8_t *)((char *)(node) + 29 * (W))))
+/* The order of node's slots for octant oct (0..3, below): position i
+ * (i = 0 nearest) holds slot (WIDE_ORDER(node, W, oct) >> 3 i) & 7. */
+#define WIDE_ORDER(node, W, oct)                                                                                      \
+    ((W) == 2   ? (uint32_t)((const uint8_t *)((const char *)(node) + 60))[oct]                                       \
+     : (W) == 4 ? (uint32_t)((const uint16_t *)((const char *)(node) + 120))[oct]                                     \
+                : ((const uint32_t *)((const char *)(node) + 240))[oct])
+/* The octants whose orders a node keeps: those of directions with x >= 0,
+ * oct = (y < 0) | (z < 0) << 1. A ray with x < 0 walks the order of the
+ * opposite octant backwards: the two orders are reverses of each other. */
+#define WIDE_OCTANTS 4
 
 /* Instruction sets of the box kernels, in order of preference. */
 typedef enum { WIDE_ISA_SCALAR = 0, WIDE_ISA_SSE42, WIDE_ISA_AVX2, WIDE_ISA_AVX512, WIDE_ISA_COUNT } wide_isa;
@@ -134,6 +163,8 @@ typedef struct {
     uint64_t nchildren; /* used slots over all nodes: interior children + leaves */
     prim_tri_packet *packets; /* [npackets] the all-triangle leaves' triangles (wide_pack_leaves), or NULL */
     uint32_t npackets;
+    bool octant_order;  /* the closest-hit walk takes the children hit in the node's order for the ray's octant
+                         * (order=octant), not sorted by entry distance (order=distance) */
     bool spatial;       /* built with spatial splits: a primitive may be in several leaves, each slot bounding the part
                          * of it that the leaf stands for (set by the caller after wide_collapse) */
 } wide_bvh;
@@ -174,24 +205,27 @@ int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max);
  * right. 0, or -1 with the first failure in err. */
 int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size_t errlen);
 
-/* A stack entry: a child (as child[] holds it), its leaf count and the
- * distance at which the ray enters its box. */
+/* The traversal stack, in three arrays of wide_stack_cap(w) +
+ * WIDE_STACK_SLACK entries (12 bytes an entry): per entry a child (as
+ * child[] holds it), its leaf count and the distance at which the ray
+ * enters its box. Arrays, not entries, so that order=octant's AVX-512
+ * push stores each as one vector; the slack is what such a store writes
+ * beyond the last entry it keeps. */
 typedef struct {
-    uint32_t child;
-    uint32_t count;
-    float t;
-} wide_entry;
-_Static_assert(sizeof(wide_entry) == 12, "wide_entry is 12 bytes");
+    uint32_t *child, *count;
+    float *t;
+} wide_stack;
+#define WIDE_STACK_SLACK 8
 
 /* The four queries of one width and instruction set. stack has
  * wide_stack_cap(w) entries. The accel.h contract; the _fast ones count
  * nothing and give the same answers bit for bit. */
 typedef struct {
-    bool (*intersect)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit,
+    bool (*intersect)(const wide_bvh *w, const prims_t *p, const wide_stack *stack, const ray_t *ray, hit_t *hit,
                       counters_t *c);
-    bool (*occluded)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, counters_t *c);
-    bool (*intersect_fast)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit);
-    bool (*occluded_fast)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray);
+    bool (*occluded)(const wide_bvh *w, const prims_t *p, const wide_stack *stack, const ray_t *ray, counters_t *c);
+    bool (*intersect_fast)(const wide_bvh *w, const prims_t *p, const wide_stack *stack, const ray_t *ray, hit_t *hit);
+    bool (*occluded_fast)(const wide_bvh *w, const prims_t *p, const wide_stack *stack, const ray_t *ray);
 } wide_kernels;
 
 /* The kernels of isa for width 2, 4 or 8 (those of

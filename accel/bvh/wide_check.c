@@ -54,6 +54,27 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
         if (v.nchildren < 1 || v.nchildren > W) FAIL("node %u has %u children", i, v.nchildren);
         if (v.nchildren < 2 && i != 0) FAIL("node %u has one child", i);
         nchildren += v.nchildren;
+        /* The octant orders: permutations of the slots, the used ones first,
+         * by their centres on the octant's diagonal, ties by slot. */
+        for (uint32_t oct = 0; oct < WIDE_OCTANTS; oct++) {
+            const uint32_t perm = WIDE_ORDER((char *)w->nodes + (size_t)i * WIDE_NODE_BYTES(W), W, oct);
+            const float sy = oct & 1 ? -1.0f : 1.0f, sz = oct & 2 ? -1.0f : 1.0f;
+            unsigned used = 0;
+            float prev = 0;
+            uint32_t prev_slot = 0;
+            for (uint32_t pos = 0; pos < W; pos++) {
+                uint32_t k = (perm >> 3 * pos) & 7;
+                if (k >= W || (used >> k & 1) || (pos < v.nchildren) != (k < v.nchildren))
+                    FAIL("node %u octant %u: position %u holds slot %u (order %#x)", i, oct, pos, k, perm);
+                used |= 1u << k;
+                if (pos >= v.nchildren) continue;
+                box3 b = slot_box(&v, W, k);
+                float key = (b.lo.x + b.hi.x) + sy * (b.lo.y + b.hi.y) + sz * (b.lo.z + b.hi.z);
+                if (pos && (key < prev || (key == prev && k < prev_slot)))
+                    FAIL("node %u octant %u: slot %u before slot %u out of order", i, oct, prev_slot, k);
+                prev = key, prev_slot = k;
+            }
+        }
         for (uint32_t k = 0; k < W; k++) {
             box3 b = slot_box(&v, W, k);
             if (k >= v.nchildren) {

@@ -18,7 +18,11 @@
  * way; an any-hit query takes them in slot order unsorted, as Embree's
  * any-hit traversal does: measured here 5-15 % faster on shadow rays),
  * push them farthest first, pop the nearest (the nearest, when
- * interior, is visited at once without the push and pop). A popped entry that
+ * interior, is visited at once without the push and pop). With
+ * order=octant (w->octant_order) the closest-hit walk takes the children
+ * hit in the node's order for the ray's octant instead (wide.h,
+ * wide_push_octant), one interior child hit visited at once, the rest
+ * pushed and the nearest popped. A popped entry that
  * starts beyond the closest hit is dropped; a popped leaf is tested through
  * prims/ (one prim_*_tris call over its packets, or one prim_*_leaf call
  * over its refs); an any-hit query ends at the first
@@ -52,6 +56,10 @@
 typedef struct {
     float org[3], inv[3];       /* origin, 1 / direction (+-inf for +-0) */
     uint32_t near[3], far[3];   /* per axis the box row of the near and far plane: 2 axis + (inv < 0) and the other */
+    uint32_t oct;               /* the octant whose order the walk takes (WIDE_ORDER) */
+    bool backwards;             /* and whether backwards: x < 0, the opposite octant's order */
+    uint32_t shift[8] __attribute__((aligned(32))); /* order=octant: i-th push, farthest first, is the order's
+                                                     * field at bit shift[i] (wide_push_octant) */
 } wide_ray;
 
 /* false: the ray cannot hit anything (slab_ray_init's refusals: a NaN or
@@ -72,6 +80,10 @@ WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray)
         r->near[a] = 2 * a + neg;
         r->far[a] = 2 * a + 1 - neg;
     }
+    /* The octant by the signs of inv (a -0 component counts as negative,
+     * as it does for the planes). */
+    r->backwards = r->near[0] & 1;
+    r->oct = ((r->near[1] & 1) | (r->near[2] & 1) << 1) ^ (r->backwards ? 3u : 0u);
     return true;
 }
 
@@ -112,11 +124,54 @@ WIDE_FN bool wide_leaf(const wide_bvh *w, const prims_t *p, uint32_t child, uint
     return counting ? prim_intersect_leaf(p, ids, count, ray, hit, c) : prim_intersect_leaf_fast(p, ids, count, ray, hit);
 }
 
-WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit,
+/* order=octant: push the children hit (mask) of node in the node's order
+ * for the ray's octant, farthest first, to the stack's arrays at sp;
+ * returns the new sp. Every slot is written, the stack pointer advanced
+ * past the hit ones only (no branch; the stack has WIDE_STACK_SLACK
+ * entries beyond its capacity for it). */
+WIDE_FN uint32_t wide_push_octant(const wide_ray *r, const char *node, unsigned mask, const float *tn,
+                                  const wide_stack *st, uint32_t sp, const uint32_t W)
+{
+    const uint32_t perm = WIDE_ORDER(node, W, r->oct);
+    const uint32_t *child = WIDE_CHILD(node, W);
+    const uint8_t *count = WIDE_COUNT(node, W);
+#ifdef WIDE_PUSH_AVX512
+    /* The same pushes with AVX-512 (Fuetterling et al., "Accelerated
+     * Single Ray Tracing for Wide Vector Units", HPG 2017: the order a
+     * permutation vector, the hit ones compressed into place): the slots
+     * in push order, the hit mask, children, counts and distances permuted
+     * by them, compressed and stored as whole vectors. */
+    if (W == 8) {
+        const __m256i slots = _mm256_and_si256(
+            _mm256_srlv_epi32(_mm256_set1_epi32((int)perm), _mm256_load_si256((const __m256i *)r->shift)),
+            _mm256_set1_epi32(7));
+        const __m256i ones = _mm256_set1_epi32(-1);
+        const __mmask8 hit =
+            _mm256_test_epi32_mask(_mm256_permutexvar_epi32(slots, _mm256_maskz_mov_epi32((__mmask8)mask, ones)), ones);
+        const __m256i ch = _mm256_permutexvar_epi32(slots, _mm256_load_si256((const __m256i *)child));
+        const __m256i n = _mm256_permutexvar_epi32(slots, _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)count)));
+        const __m256 t = _mm256_permutexvar_ps(slots, _mm256_load_ps(tn));
+        _mm256_storeu_si256((__m256i *)(st->child + sp), _mm256_maskz_compress_epi32(hit, ch));
+        _mm256_storeu_si256((__m256i *)(st->count + sp), _mm256_maskz_compress_epi32(hit, n));
+        _mm256_storeu_ps(st->t + sp, _mm256_maskz_compress_ps(hit, t));
+        return sp + (uint32_t)__builtin_popcount(mask);
+    }
+#endif
+    for (uint32_t i = 0; i < W; i++) {
+        uint32_t k = (perm >> r->shift[i]) & 7;
+        st->child[sp] = child[k], st->count[sp] = count[k], st->t[sp] = tn[k];
+        sp += (mask >> k) & 1;
+    }
+    return sp;
+}
+
+WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, const wide_stack *st, const ray_t *ray, hit_t *hit,
                        counters_t *c, const uint32_t W, const wide_box_fn box, const bool shadow, const bool counting)
 {
     wide_ray r;
     if (!w->nnodes || !wide_ray_init(&r, ray)) return false;
+    const bool octant = !shadow && w->octant_order;
+    for (uint32_t i = 0; i < W; i++) r.shift[i] = 3 * (r.backwards ? i : W - 1 - i);
     uint64_t nbox = 0, nsteps = 0;
     uint32_t sp = 0, cur = 0;
     bool occluded = false;
@@ -131,60 +186,73 @@ WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, c
         float tn[8] __attribute__((aligned(32)));
         unsigned mask = box(&r, node, ray->tnear, shadow ? ray->tfar : hit->t, tn);
 
-        /* The children hit, nearest first (insertion by distance, ties by
-         * slot), pushed farthest first. */
-        uint32_t ord[8], m = 0;
-        while (mask) {
-            uint32_t k = (uint32_t)__builtin_ctz(mask), j = m++;
-            mask &= mask - 1;
-            /* Any hit: slot order (Embree's any-hit traversal does not sort either). */
-            while (!shadow && j > 0 && tn[ord[j - 1]] > tn[k]) ord[j] = ord[j - 1], j--;
-            ord[j] = k;
-        }
-        /* The nearest child, when interior, is visited next without a
-         * push and pop (it cannot be dropped: its a <= z <= the current
-         * end); otherwise it is pushed last, so popped first, like the
-         * rest. */
-        uint32_t last = m && !(child[ord[0]] & WIDE_LEAF) ? 1 : 0;
-        /* The nodes to come, fetched while this one's leaves are tested
-         * (the cache lines of their box rows). Measured on the bunny,
-         * 3 x 11 pairs on a loaded machine: median ratios 1.18/1.48/1.67
-         * against 1.26/1.57/1.67 without (primary/shadow/random), a small
-         * gain at most. */
-        for (uint32_t i = 0; i < m; i++) {
-            uint32_t ch = child[ord[i]];
-            if (!(ch & WIDE_LEAF)) {
-                const char *nb = (const char *)w->nodes + (size_t)ch * WIDE_NODE_BYTES(W);
-                __builtin_prefetch(nb);
-                if (W >= 4) __builtin_prefetch(nb + 64);
-                if (W == 8) __builtin_prefetch(nb + 128);
-            } else if (ch & WIDE_PACKED) {
-                /* A leaf's first packet: perf found a quarter of the
-                 * packet test's time on its first load. */
-                const char *pb = (const char *)(w->packets + (ch & WIDE_INDEX));
-                __builtin_prefetch(pb);
-                __builtin_prefetch(pb + 64);
-                __builtin_prefetch(pb + 128);
+        if (octant) {
+            /* order=octant: one interior child hit is visited next; more,
+             * or a leaf, are pushed in the node's order, the nearest popped
+             * first below. */
+            if (mask && !(mask & (mask - 1)) && !(child[__builtin_ctz(mask)] & WIDE_LEAF)) {
+                cur = child[__builtin_ctz(mask)];
+                continue;
             }
-        }
-        for (uint32_t i = m; i-- > last;) stack[sp++] = (wide_entry){child[ord[i]], count[ord[i]], tn[ord[i]]};
-        if (last) {
-            cur = child[ord[0]];
-            continue;
+            sp = wide_push_octant(&r, node, mask, tn, st, sp, W);
+        } else {
+            /* order=distance: the children hit, nearest first (insertion
+             * by distance, ties by slot; any hit: slot order, unsorted, as
+             * Embree's any-hit traversal does), pushed farthest first. */
+            uint32_t ord[8], m = 0;
+            while (mask) {
+                uint32_t k = (uint32_t)__builtin_ctz(mask), j = m++;
+                mask &= mask - 1;
+                while (!shadow && j > 0 && tn[ord[j - 1]] > tn[k]) ord[j] = ord[j - 1], j--;
+                ord[j] = k;
+            }
+            /* The nearest child, when interior, is visited next without a
+             * push and pop (it cannot be dropped: its a <= z <= the current
+             * end); otherwise it is pushed last, so popped first, like the
+             * rest. */
+            uint32_t last = m && !(child[ord[0]] & WIDE_LEAF) ? 1 : 0;
+            /* The nodes to come, fetched while this one's leaves are tested
+             * (the cache lines of their box rows). Measured on the bunny,
+             * 3 x 11 pairs on a loaded machine: median ratios 1.18/1.48/1.67
+             * against 1.26/1.57/1.67 without (primary/shadow/random), a small
+             * gain at most. */
+            for (uint32_t i = 0; i < m; i++) {
+                uint32_t ch = child[ord[i]];
+                if (!(ch & WIDE_LEAF)) {
+                    const char *nb = (const char *)w->nodes + (size_t)ch * WIDE_NODE_BYTES(W);
+                    __builtin_prefetch(nb);
+                    if (W >= 4) __builtin_prefetch(nb + 64);
+                    if (W == 8) __builtin_prefetch(nb + 128);
+                } else if (ch & WIDE_PACKED) {
+                    /* A leaf's first packet: perf found a quarter of the
+                     * packet test's time on its first load. */
+                    const char *pb = (const char *)(w->packets + (ch & WIDE_INDEX));
+                    __builtin_prefetch(pb);
+                    __builtin_prefetch(pb + 64);
+                    __builtin_prefetch(pb + 128);
+                }
+            }
+            for (uint32_t i = m; i-- > last;)
+                st->child[sp] = child[ord[i]], st->count[sp] = count[ord[i]], st->t[sp] = tn[ord[i]], sp++;
+            if (last) {
+                cur = child[ord[0]];
+                continue;
+            }
         }
 
         /* Pop until an interior node: test the leaves on the way, drop
          * what starts beyond the closest hit. */
         for (;;) {
             if (!sp) goto done;
-            wide_entry e = stack[--sp];
-            if (!shadow && e.t > hit->t) continue;
-            if (!(e.child & WIDE_LEAF)) {
-                cur = e.child;
+            --sp;
+            if (!shadow && st->t[sp] > hit->t) continue;
+            const uint32_t e = st->child[sp];
+            if (!(e & WIDE_LEAF)) {
+                cur = e;
                 break;
             }
             nsteps++;
-            if (wide_leaf(w, p, e.child, e.count, ray, hit, c, shadow, counting) && shadow) {
+            if (wide_leaf(w, p, e, st->count[sp], ray, hit, c, shadow, counting) && shadow) {
                 occluded = true;
                 goto done;
             }
@@ -201,23 +269,23 @@ done:
 /* The four entry points of width W with kernel BOX, as functions named
  * PREFIX_intersect etc. and a wide_kernels initialiser. */
 #define WIDE_ENTRY_POINTS(PREFIX, W, BOX)                                                                              \
-    WIDE_TARGET static bool PREFIX##_intersect(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray, \
+    WIDE_TARGET static bool PREFIX##_intersect(const wide_bvh *w, const prims_t *p, const wide_stack *st, const ray_t *ray, \
                                                hit_t *hit, counters_t *c)                                              \
     {                                                                                                                  \
         return wide_walk(w, p, st, ray, hit, c, W, BOX, false, true);                                                  \
     }                                                                                                                  \
-    WIDE_TARGET static bool PREFIX##_occluded(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray,  \
+    WIDE_TARGET static bool PREFIX##_occluded(const wide_bvh *w, const prims_t *p, const wide_stack *st, const ray_t *ray,  \
                                               counters_t *c)                                                           \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
         return wide_walk(w, p, st, ray, &none, c, W, BOX, true, true);                                                 \
     }                                                                                                                  \
-    WIDE_TARGET static bool PREFIX##_intersect_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,              \
+    WIDE_TARGET static bool PREFIX##_intersect_fast(const wide_bvh *w, const prims_t *p, const wide_stack *st,              \
                                                     const ray_t *ray, hit_t *hit)                                      \
     {                                                                                                                  \
         return wide_walk(w, p, st, ray, hit, NULL, W, BOX, false, false);                                              \
     }                                                                                                                  \
-    WIDE_TARGET static bool PREFIX##_occluded_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,               \
+    WIDE_TARGET static bool PREFIX##_occluded_fast(const wide_bvh *w, const prims_t *p, const wide_stack *st,               \
                                                    const ray_t *ray)                                                   \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
