@@ -31,9 +31,9 @@
  *   - order=octant: children ordered per ray octant, H. Ylitie, T. Karras,
  *     S. Laine, "Efficient Incoherent Ray Traversal on GPUs Through
  *     Compressed Wide BVHs", HPG 2017 (s3.2), kept as a permutation per
- *     octant and pushed as compressed vectors as V. Fuetterling, C. Lojewski,
- *     F.-J. Pfreundt, A. Ebert, "Accelerated Single Ray Tracing for Wide
- *     Vector Units", HPG 2017, do.
+ *     octant as V. Fuetterling, C. Lojewski, F.-J. Pfreundt, A. Ebert,
+ *     "Accelerated Single Ray Tracing for Wide Vector Units", HPG 2017,
+ *     keep theirs.
  *
  * Parameters (defaults):
  *   width=8       children per node: 2 | 4 | 8. 2: the binary tree's nodes
@@ -84,16 +84,23 @@
  *                 the node keeps for the ray's octant (its children's box
  *                 centres along the octant's diagonal, accel/bvh/wide.h;
  *                 Ylitie, Karras, Laine, HPG 2017, section 3.2), with no
- *                 comparison of distances, and at width 8 with AVX-512 the
- *                 hit ones pushed as three compressed vectors (Fuetterling
- *                 et al., "Accelerated Single Ray Tracing for Wide Vector
- *                 Units", HPG 2017). Measured here (2026-12-03, 1 thread,
- *                 AVX-512, sponza, bunny, spd:balls:4:t, primary, diffuse
- *                 and random rays, 256x256, 31 repeats, two fuzzers
- *                 beside): octant's trace time over distance's, each paired
- *                 with Embree, 0.89-1.22, geometric mean 1.03: no gain
- *                 beyond this machine's noise, so distance stays the
- *                 default. Any-hit queries take slot order either way.
+ *                 comparison of distances: every slot written to the stack
+ *                 in order, the stack pointer advanced past the hit ones.
+ *                 Measured here (2026-12-03, 1 thread, AVX-512, sponza,
+ *                 bunny, spd:balls:4:t, primary, diffuse and random rays,
+ *                 256x256, 31 repeats, two fuzzers beside): octant's trace
+ *                 time over distance's, each paired with Embree, 0.89-1.22,
+ *                 geometric mean 1.03 with the AVX-512 push of Fuetterling
+ *                 et al. (the permuted children compressed and stored as
+ *                 vectors, the stack in three arrays for it), 1.02 with
+ *                 this scalar push: no gain beyond this machine's noise.
+ *                 The vector push and its stack in arrays are gone, and
+ *                 each ordering is compiled as a walk of its own: against
+ *                 the walk of c037053 the default one had been 8-10 %
+ *                 slower on Sponza's primary rays in four rounds, and is
+ *                 2-5 % after, 1.00 in geometric mean over 9 cells (within
+ *                 the noise). Distance stays the default. Any-hit queries
+ *                 take slot order either way.
  *   memcap=4096   MiB: refuse a build whose scratch and nodes would pass it
  *                 (checked before the binary build over its estimate, and
  *                 before the collapse over the exact wide node count).
@@ -105,8 +112,8 @@
  * packets=on 160 bytes per packet, ceil(count / 4) per all-triangle
  * leaf). memory() is this object (about 80 bytes) plus nodes, refs and
  * packets. Per thread: the
- * traversal stack, 12 bytes an entry in three arrays (child, count,
- * distance), (W - 1)(depth + 1) + 1 entries and WIDE_STACK_SLACK (8) more.
+ * traversal stack, 12 bytes an entry, (W - 1)(depth + 1) + 1 entries and
+ * WIDE_STACK_SLACK (8) more.
  * Build scratch, freed before build() returns: primitive boxes (24 bytes
  * each), the kit's binary tree (32 bytes a node, 2n - 1 at most) and its
  * builder's centroids and tasks.
@@ -146,7 +153,7 @@ static const accel_param champ_params[] = {
     {"alpha", "1e-5", "sbvh: try a spatial split when the object split's overlap passes alpha x the root's area, 0..1"},
     {"binning", "split", "sbvh: straddlers binned by split (Embree's float split, an estimate) | clip (exact, slower)"},
     {"order", "distance", "closest hit: children sorted by entry distance | octant: in the node's order for the ray's "
-                          "octant (Ylitie et al. 2017), pushed as vectors with AVX-512 (Fuetterling et al. 2017)"},
+                          "octant (Ylitie et al. 2017)"},
     {"packets", "on", "on: leaves of triangles only tested as prims/ triangle packets (4 in SoA) | off: through refs"},
     {"isa", "auto", "box kernels: auto (the best this CPU has) | scalar | sse42 | avx2 | avx512"},
     {"memcap", "4096", "MiB: refuse a build whose scratch and nodes exceed it"},
@@ -162,7 +169,7 @@ typedef struct {
 } champ_t;
 
 struct accel_ctx {
-    wide_stack stack; /* wide_stack_cap(&w) + WIDE_STACK_SLACK entries in one block at stack.child */
+    wide_entry *stack; /* wide_stack_cap(&w) + WIDE_STACK_SLACK entries */
 };
 
 /* ---------------------------------------------------------------- build */
@@ -348,16 +355,14 @@ static accel_ctx *champ_context_new(accel *a)
     uint32_t cap = wide_stack_cap(&t->w);
     /* context_new cannot fail through the interface: out of memory is exit 2 (prims/checked_alloc.h) */
     accel_ctx *ctx = checked_calloc(1, sizeof *ctx, "a bvh tracing context");
-    size_t entries = (size_t)cap + WIDE_STACK_SLACK;
-    uint32_t *block = checked_calloc(3 * entries, sizeof *block, "a bvh thread's traversal stack");
-    ctx->stack = (wide_stack){block, block + entries, (float *)(block + 2 * entries)};
+    ctx->stack = checked_calloc((size_t)cap + WIDE_STACK_SLACK, sizeof *ctx->stack, "a bvh thread's traversal stack");
     return ctx;
 }
 
 static void champ_context_free(accel_ctx *ctx)
 {
     if (!ctx) return;
-    free(ctx->stack.child);
+    free(ctx->stack);
     free(ctx);
 }
 
@@ -366,25 +371,25 @@ static void champ_context_free(accel_ctx *ctx)
 static bool champ_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
 {
     const champ_t *t = (const champ_t *)a;
-    return t->k->intersect(&t->w, t->p, &ctx->stack, ray, hit, c);
+    return t->k->intersect(&t->w, t->p, ctx->stack, ray, hit, c);
 }
 
 static bool champ_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
 {
     const champ_t *t = (const champ_t *)a;
-    return t->k->occluded(&t->w, t->p, &ctx->stack, ray, c);
+    return t->k->occluded(&t->w, t->p, ctx->stack, ray, c);
 }
 
 static bool champ_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
 {
     const champ_t *t = (const champ_t *)a;
-    return t->k->intersect_fast(&t->w, t->p, &ctx->stack, ray, hit);
+    return t->k->intersect_fast(&t->w, t->p, ctx->stack, ray, hit);
 }
 
 static bool champ_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
 {
     const champ_t *t = (const champ_t *)a;
-    return t->k->occluded_fast(&t->w, t->p, &ctx->stack, ray);
+    return t->k->occluded_fast(&t->w, t->p, ctx->stack, ray);
 }
 
 /* ------------------------------------------------------------ the rest */

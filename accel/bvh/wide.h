@@ -59,7 +59,7 @@
  * ceil(count / 4) of them contiguous, 64-byte aligned. An empty scene has
  * nnodes == 0. Total = node bytes * nnodes + 4 nrefs + 160 npackets
  * (wide_memory()).
- * Per context: the traversal stack (wide_stack), 12 bytes an entry,
+ * Per context: the traversal stack (wide_entry), 12 bytes an entry,
  * (W - 1) (depth + 1) + 1 entries, enough for any walk of this tree
  * (wide_stack_cap()), and WIDE_STACK_SLACK more. */
 #ifndef ACCELBENCH_BVH_WIDE_H
@@ -205,27 +205,27 @@ int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max);
  * right. 0, or -1 with the first failure in err. */
 int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size_t errlen);
 
-/* The traversal stack, in three arrays of wide_stack_cap(w) +
- * WIDE_STACK_SLACK entries (12 bytes an entry): per entry a child (as
- * child[] holds it), its leaf count and the distance at which the ray
- * enters its box. Arrays, not entries, so that order=octant's AVX-512
- * push stores each as one vector; the slack is what such a store writes
- * beyond the last entry it keeps. */
+/* A stack entry: a child (as child[] holds it), its leaf count and the
+ * distance at which the ray enters its box. The stack has
+ * wide_stack_cap(w) + WIDE_STACK_SLACK of them: order=octant's push writes
+ * every slot of a node and keeps the hit ones (wide_push_octant). */
 typedef struct {
-    uint32_t *child, *count;
-    float *t;
-} wide_stack;
+    uint32_t child;
+    uint32_t count;
+    float t;
+} wide_entry;
+_Static_assert(sizeof(wide_entry) == 12, "wide_entry is 12 bytes");
 #define WIDE_STACK_SLACK 8
 
 /* The four queries of one width and instruction set. stack has
  * wide_stack_cap(w) entries. The accel.h contract; the _fast ones count
  * nothing and give the same answers bit for bit. */
 typedef struct {
-    bool (*intersect)(const wide_bvh *w, const prims_t *p, const wide_stack *stack, const ray_t *ray, hit_t *hit,
+    bool (*intersect)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit,
                       counters_t *c);
-    bool (*occluded)(const wide_bvh *w, const prims_t *p, const wide_stack *stack, const ray_t *ray, counters_t *c);
-    bool (*intersect_fast)(const wide_bvh *w, const prims_t *p, const wide_stack *stack, const ray_t *ray, hit_t *hit);
-    bool (*occluded_fast)(const wide_bvh *w, const prims_t *p, const wide_stack *stack, const ray_t *ray);
+    bool (*occluded)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, counters_t *c);
+    bool (*intersect_fast)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit);
+    bool (*occluded_fast)(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray);
 } wide_kernels;
 
 /* The kernels of isa for width 2, 4 or 8 (those of

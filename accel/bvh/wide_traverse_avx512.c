@@ -7,7 +7,6 @@
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
 #define WIDE_TARGET __attribute__((target("avx512f,avx512vl,avx2,fma")))
-#define WIDE_PUSH_AVX512 1 /* wide_push_octant stores order=octant's pushes as vectors */
 #include "wide_walk.h"
 
 WIDE_FN unsigned box4(const wide_ray *r, const void *node, float t0, float t1, float *tn)

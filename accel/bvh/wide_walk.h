@@ -58,8 +58,6 @@ typedef struct {
     uint32_t near[3], far[3];   /* per axis the box row of the near and far plane: 2 axis + (inv < 0) and the other */
     uint32_t oct;               /* the octant whose order the walk takes (WIDE_ORDER) */
     bool backwards;             /* and whether backwards: x < 0, the opposite octant's order */
-    uint32_t shift[8] __attribute__((aligned(32))); /* order=octant: i-th push, farthest first, is the order's
-                                                     * field at bit shift[i] (wide_push_octant) */
 } wide_ray;
 
 /* false: the ray cannot hit anything (slab_ray_init's refusals: a NaN or
@@ -125,53 +123,34 @@ WIDE_FN bool wide_leaf(const wide_bvh *w, const prims_t *p, uint32_t child, uint
 }
 
 /* order=octant: push the children hit (mask) of node in the node's order
- * for the ray's octant, farthest first, to the stack's arrays at sp;
- * returns the new sp. Every slot is written, the stack pointer advanced
- * past the hit ones only (no branch; the stack has WIDE_STACK_SLACK
- * entries beyond its capacity for it). */
+ * for the ray's octant, farthest first, at sp; returns the new sp. Every
+ * slot is written, the stack pointer advanced past the hit ones only (no
+ * branch on the mask; the stack has WIDE_STACK_SLACK entries beyond its
+ * capacity for it). */
 WIDE_FN uint32_t wide_push_octant(const wide_ray *r, const char *node, unsigned mask, const float *tn,
-                                  const wide_stack *st, uint32_t sp, const uint32_t W)
+                                  wide_entry *stack, uint32_t sp, const uint32_t W)
 {
     const uint32_t perm = WIDE_ORDER(node, W, r->oct);
     const uint32_t *child = WIDE_CHILD(node, W);
     const uint8_t *count = WIDE_COUNT(node, W);
-#ifdef WIDE_PUSH_AVX512
-    /* The same pushes with AVX-512 (Fuetterling et al., "Accelerated
-     * Single Ray Tracing for Wide Vector Units", HPG 2017: the order a
-     * permutation vector, the hit ones compressed into place): the slots
-     * in push order, the hit mask, children, counts and distances permuted
-     * by them, compressed and stored as whole vectors. */
-    if (W == 8) {
-        const __m256i slots = _mm256_and_si256(
-            _mm256_srlv_epi32(_mm256_set1_epi32((int)perm), _mm256_load_si256((const __m256i *)r->shift)),
-            _mm256_set1_epi32(7));
-        const __m256i ones = _mm256_set1_epi32(-1);
-        const __mmask8 hit =
-            _mm256_test_epi32_mask(_mm256_permutexvar_epi32(slots, _mm256_maskz_mov_epi32((__mmask8)mask, ones)), ones);
-        const __m256i ch = _mm256_permutexvar_epi32(slots, _mm256_load_si256((const __m256i *)child));
-        const __m256i n = _mm256_permutexvar_epi32(slots, _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)count)));
-        const __m256 t = _mm256_permutexvar_ps(slots, _mm256_load_ps(tn));
-        _mm256_storeu_si256((__m256i *)(st->child + sp), _mm256_maskz_compress_epi32(hit, ch));
-        _mm256_storeu_si256((__m256i *)(st->count + sp), _mm256_maskz_compress_epi32(hit, n));
-        _mm256_storeu_ps(st->t + sp, _mm256_maskz_compress_ps(hit, t));
-        return sp + (uint32_t)__builtin_popcount(mask);
-    }
-#endif
     for (uint32_t i = 0; i < W; i++) {
-        uint32_t k = (perm >> r->shift[i]) & 7;
-        st->child[sp] = child[k], st->count[sp] = count[k], st->t[sp] = tn[k];
+        uint32_t k = (perm >> 3 * (r->backwards ? i : W - 1 - i)) & 7;
+        stack[sp] = (wide_entry){child[k], count[k], tn[k]};
         sp += (mask >> k) & 1;
     }
     return sp;
 }
 
-WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, const wide_stack *st, const ray_t *ray, hit_t *hit,
-                       counters_t *c, const uint32_t W, const wide_box_fn box, const bool shadow, const bool counting)
+/* The walk for one ordering (octant: order=octant's, a constant where
+ * wide_walk calls it, so each ordering is compiled on its own: with the
+ * tree's order tested per node the default walk was 8 % slower on Sponza's
+ * primary rays, 2-5 % without). */
+WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray,
+                               hit_t *hit, counters_t *c, const uint32_t W, const wide_box_fn box, const bool shadow,
+                               const bool counting, const bool octant)
 {
     wide_ray r;
     if (!w->nnodes || !wide_ray_init(&r, ray)) return false;
-    const bool octant = !shadow && w->octant_order;
-    for (uint32_t i = 0; i < W; i++) r.shift[i] = 3 * (r.backwards ? i : W - 1 - i);
     uint64_t nbox = 0, nsteps = 0;
     uint32_t sp = 0, cur = 0;
     bool occluded = false;
@@ -194,7 +173,7 @@ WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, const wide_stack *st
                 cur = child[__builtin_ctz(mask)];
                 continue;
             }
-            sp = wide_push_octant(&r, node, mask, tn, st, sp, W);
+            sp = wide_push_octant(&r, node, mask, tn, stack, sp, W);
         } else {
             /* order=distance: the children hit, nearest first (insertion
              * by distance, ties by slot; any hit: slot order, unsorted, as
@@ -233,7 +212,7 @@ WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, const wide_stack *st
                 }
             }
             for (uint32_t i = m; i-- > last;)
-                st->child[sp] = child[ord[i]], st->count[sp] = count[ord[i]], st->t[sp] = tn[ord[i]], sp++;
+                stack[sp++] = (wide_entry){child[ord[i]], count[ord[i]], tn[ord[i]]};
             if (last) {
                 cur = child[ord[0]];
                 continue;
@@ -244,15 +223,14 @@ WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, const wide_stack *st
          * what starts beyond the closest hit. */
         for (;;) {
             if (!sp) goto done;
-            --sp;
-            if (!shadow && st->t[sp] > hit->t) continue;
-            const uint32_t e = st->child[sp];
-            if (!(e & WIDE_LEAF)) {
-                cur = e;
+            wide_entry e = stack[--sp];
+            if (!shadow && e.t > hit->t) continue;
+            if (!(e.child & WIDE_LEAF)) {
+                cur = e.child;
                 break;
             }
             nsteps++;
-            if (wide_leaf(w, p, e, st->count[sp], ray, hit, c, shadow, counting) && shadow) {
+            if (wide_leaf(w, p, e.child, e.count, ray, hit, c, shadow, counting) && shadow) {
                 occluded = true;
                 goto done;
             }
@@ -266,26 +244,33 @@ done:
     return shadow ? occluded : hit->prim != HIT_NONE;
 }
 
+WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit,
+                       counters_t *c, const uint32_t W, const wide_box_fn box, const bool shadow, const bool counting)
+{
+    if (!shadow && w->octant_order) return wide_walk_ordered(w, p, stack, ray, hit, c, W, box, false, counting, true);
+    return wide_walk_ordered(w, p, stack, ray, hit, c, W, box, shadow, counting, false);
+}
+
 /* The four entry points of width W with kernel BOX, as functions named
  * PREFIX_intersect etc. and a wide_kernels initialiser. */
 #define WIDE_ENTRY_POINTS(PREFIX, W, BOX)                                                                              \
-    WIDE_TARGET static bool PREFIX##_intersect(const wide_bvh *w, const prims_t *p, const wide_stack *st, const ray_t *ray, \
+    WIDE_TARGET static bool PREFIX##_intersect(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray, \
                                                hit_t *hit, counters_t *c)                                              \
     {                                                                                                                  \
         return wide_walk(w, p, st, ray, hit, c, W, BOX, false, true);                                                  \
     }                                                                                                                  \
-    WIDE_TARGET static bool PREFIX##_occluded(const wide_bvh *w, const prims_t *p, const wide_stack *st, const ray_t *ray,  \
+    WIDE_TARGET static bool PREFIX##_occluded(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray,  \
                                               counters_t *c)                                                           \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
         return wide_walk(w, p, st, ray, &none, c, W, BOX, true, true);                                                 \
     }                                                                                                                  \
-    WIDE_TARGET static bool PREFIX##_intersect_fast(const wide_bvh *w, const prims_t *p, const wide_stack *st,              \
+    WIDE_TARGET static bool PREFIX##_intersect_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,              \
                                                     const ray_t *ray, hit_t *hit)                                      \
     {                                                                                                                  \
         return wide_walk(w, p, st, ray, hit, NULL, W, BOX, false, false);                                              \
     }                                                                                                                  \
-    WIDE_TARGET static bool PREFIX##_occluded_fast(const wide_bvh *w, const prims_t *p, const wide_stack *st,               \
+    WIDE_TARGET static bool PREFIX##_occluded_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,               \
                                                    const ray_t *ray)                                                   \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
