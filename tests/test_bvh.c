@@ -490,7 +490,8 @@ static void test_sah_best(void)
             boxes[i] = (box3){a, b};
             cen[i] = box_center(boxes[i]);
         }
-        uint32_t n = 2 + (uint32_t)(rndd(0, 1) * (N - 2));
+        /* every fourth round a small node, where small_bins takes fewer bins */
+        uint32_t n = 2 + (uint32_t)(rndd(0, 1) * (round % 4 == 0 ? 200 : N - 2));
         for (uint32_t i = 0; i < n; i++) ids[i] = (uint32_t)(rndd(0, 1) * N) % N;
         box3 plain = box_empty(), plain_cb = box_empty();
         for (uint32_t i = 0; i < n; i++) plain = box_union(plain, boxes[ids[i]]), plain_cb = box_grow(plain_cb, cen[ids[i]]);
@@ -502,8 +503,19 @@ static void test_sah_best(void)
         cfg.bins = bins[round % 6];
         cfg.leaf_block = round % 2 ? 4 : 1;
         cfg.cost_traversal = 2.0f;
+        /* small_bins in every third round (with 3 or 32 bins; 32 in the
+         * small nodes of every fourth round): the reference bins into
+         * min(bins, 4 + n / 20) slots, and so must bvh_sah_best. */
+        cfg.small_bins = round % 3 == 1;
+        bvh_config plain_cfg = cfg;
+        plain_cfg.small_bins = false;
+        uint32_t want_bins = cfg.small_bins && 4 + n / 20 < cfg.bins ? 4 + n / 20 : cfg.bins;
+        plain_cfg.bins = want_bins;
+        CHECK_MSG(bvh_sah_bins(n, &cfg) == want_bins, "round %d: bvh_sah_bins(%u) = %u, want %u", round, n,
+                  bvh_sah_bins(n, &cfg), want_bins);
         bvh_sah_choice a = bvh_sah_best(ids, n, plain, boxes, cen, &cfg);
-        bvh_sah_choice r = sah_best_reference(ids, n, plain, boxes, cen, &cfg);
+        bvh_sah_choice r = sah_best_reference(ids, n, plain, boxes, cen, &plain_cfg);
+        CHECK_MSG(a.bins == want_bins, "round %d: binned into %u, want %u", round, a.bins, want_bins);
         cases++;
         /* The cost may differ in the last bits (the sweep sums left to
          * right, the reference per cut); the cut and its boxes may not. */

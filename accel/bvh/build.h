@@ -36,18 +36,21 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
  * cut of ids[0 .. n) (a node with box `box`) over the three axes; cost is
  * ct A(box) + ci (A(L) N(L) + A(R) N(R)) with counts in leaf_block
  * blocks, left and right the two sides' boxes; axis -1 (cost +inf) when
- * every centroid falls into one slot. bvh_sah_partition: ids reordered,
+ * every centroid falls into one slot; bins the slots per axis it used. bvh_sah_partition: ids reordered,
  * the left side first; returns its count. bvh_sah_leaf_cost: ci N A(box),
  * the same units. */
 typedef struct {
     double cost;
     int axis;
-    uint32_t slot;
+    uint32_t slot, bins;  /* the cut: after bin slot of bins (bvh_sah_bins) */
     box3 cb, left, right; /* centroid bounds; the sides' boxes */
 } bvh_sah_choice;
+/* The bins a node of n primitives is binned into: cfg->bins, or with
+ * cfg->small_bins min(cfg->bins, 4 + n / 20). */
+uint32_t bvh_sah_bins(uint32_t n, const bvh_config *cfg);
 bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
                             const bvh_config *cfg);
-uint32_t bvh_sah_partition(uint32_t *ids, uint32_t n, const vec3 *centroids, const bvh_sah_choice *ch, uint32_t bins);
+uint32_t bvh_sah_partition(uint32_t *ids, uint32_t n, const vec3 *centroids, const bvh_sah_choice *ch);
 double bvh_sah_leaf_cost(uint32_t n, box3 box, const bvh_config *cfg);
 /* Centroid bounds of ids[0 .. n), and the union of their boxes (prims/box4.h). */
 box3 bvh_centroid_bounds(const uint32_t *ids, uint32_t n, const vec3 *centroids);

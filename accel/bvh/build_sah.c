@@ -10,6 +10,12 @@
  * candidate cuts are the bins - 1 slot boundaries, all evaluated in one
  * sweep from each side; the cheapest over the three axes wins.
  *
+ * With small_bins, a node of n primitives gets min(bins, 4 + n / 20)
+ * slots, the rule of Embree's binner (its BinMapping; Wald et al. 2014):
+ * the set-up and sweeps of 16 or more bins per axis would dominate the
+ * many small nodes near the leaves, where a few bins separate a handful of
+ * centroids as well.
+ *
  * A node of at most max_leaf primitives becomes a leaf when no cut is
  * cheaper; a larger one is always cut (the cheapest cut, or, when all
  * centroids fall into one slot on every axis, in two halves by count).
@@ -49,13 +55,19 @@ static inline uint32_t slot_of(float x, float lo, float scale, uint32_t bins)
 /* n primitives as the leaf tests pay for them: whole blocks. */
 static inline double blocks(uint32_t n, uint32_t block) { return (double)((n + block - 1) / block * block); }
 
+uint32_t bvh_sah_bins(uint32_t n, const bvh_config *cfg)
+{
+    uint32_t small = 4 + n / 20;
+    return cfg->small_bins && small < cfg->bins ? small : cfg->bins;
+}
+
 bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
                             const bvh_config *cfg)
 {
-    uint32_t nb = cfg->bins;
+    uint32_t nb = bvh_sah_bins(n, cfg);
     box3 cb = bvh_centroid_bounds(ids, n, centroids);
     double area = box_area(box);
-    bvh_sah_choice ch = {.cost = INFINITY, .axis = -1, .slot = 0, .cb = cb, .left = box_empty(), .right = box_empty()};
+    bvh_sah_choice ch = {.cost = INFINITY, .axis = -1, .slot = 0, .bins = nb, .cb = cb, .left = box_empty(), .right = box_empty()};
     /* The three axes binned in one pass over the primitives (Wald 2007
      * bins all three at once): each box and centroid is fetched through
      * ids once instead of once per axis, into the bins a pass per axis
@@ -107,8 +119,9 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
     return ch;
 }
 
-uint32_t bvh_sah_partition(uint32_t *ids, uint32_t n, const vec3 *centroids, const bvh_sah_choice *ch, uint32_t bins)
+uint32_t bvh_sah_partition(uint32_t *ids, uint32_t n, const vec3 *centroids, const bvh_sah_choice *ch)
 {
+    const uint32_t bins = ch->bins;
     /* Slots <= ch->slot first, by the binning's own slot formula. */
     float lo = v3_get(ch->cb.lo, ch->axis), scale = (float)bins / (v3_get(ch->cb.hi, ch->axis) - lo);
     uint32_t i = 0, j = n;
@@ -135,7 +148,7 @@ static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes
     bvh_sah_choice ch = bvh_sah_best(ids, n, box, boxes, centroids, cfg);
     if (ch.axis < 0) return 0; /* every centroid in one slot: the driver splits by count */
     if (n <= cfg->max_leaf && bvh_sah_leaf_cost(n, box, cfg) <= ch.cost) return 0;
-    return bvh_sah_partition(ids, n, centroids, &ch, cfg->bins);
+    return bvh_sah_partition(ids, n, centroids, &ch);
 }
 
 int bvh_build_sah(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg)

@@ -280,7 +280,7 @@ int bvh_build_sbvh(bvh_t *b, const box3 *boxes, uint32_t n, const bvh_config *cf
         if (sp.axis >= 0 && sp.cost < (obj.axis >= 0 ? obj.cost : INFINITY)) {
             spatial_partition(&r, t.ids, t.n, node->box, &c, s, &sp, left, &nl, right, &nr);
         } else {
-            nl = obj.axis >= 0 ? bvh_sah_partition(t.ids, t.n, r.cen, &obj, c.bins) : 0;
+            nl = obj.axis >= 0 ? bvh_sah_partition(t.ids, t.n, r.cen, &obj) : 0;
             if (nl == 0 || nl >= t.n) nl = t.n / 2; /* no cut: halves by count */
             nr = t.n - nl;
             memcpy(left, t.ids, (size_t)nl * sizeof *left);

@@ -84,6 +84,9 @@ typedef struct {
 typedef struct {
     uint32_t max_leaf;    /* top-down: a node with more primitives is always split (default 4) */
     uint32_t bins;        /* binned SAH: bins per axis (default 16, 2..256) */
+    bool small_bins;      /* binned SAH: a node of n primitives binned into min(bins, 4 + n / 20) slots, Embree's
+                           * rule (its BinMapping), which spares small nodes the set-up and sweeps of every bin
+                           * (default false: bins for every node) */
     float cost_traversal; /* SAH: cost of visiting a node (default 1) */
     float cost_intersect; /* SAH: cost of one primitive test (default 1) */
     uint32_t leaf_block;  /* SAH: a leaf's primitives are tested leaf_block at a time, so n cost as
