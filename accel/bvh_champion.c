@@ -198,7 +198,7 @@ static void champ_destroy(accel *a)
 static uint64_t binary_bytes(uint64_t n)
 {
     uint64_t nodes = n ? 2 * n - 1 : 0;
-    uint64_t per_prim = sizeof(box3) + sizeof(vec3) + sizeof(uint32_t) + 3 * sizeof(uint32_t);
+    uint64_t per_prim = sizeof(box3) + sizeof(vec3) + sizeof(uint32_t) + BVH_TOPDOWN_TASK_BYTES;
     return memcap_add(memcap_mul(n + 1, per_prim), memcap_mul(nodes, sizeof(bvh_node) + 2 * sizeof(uint32_t)));
 }
 

@@ -237,7 +237,7 @@ static uint64_t build_bytes(uint64_t n, uint32_t normals)
     uint64_t nodes = n ? 2 * n - 1 : 0;
     uint64_t b = memcap_mul(nodes, node_bytes(normals) + sizeof(bvh_node) + 2 * sizeof(uint32_t));
     uint64_t per_prim = sizeof(uint32_t) + sizeof(box3) + (uint64_t)normals * sizeof(planeset_slab) + 2 * sizeof(vec3) +
-                        3 * sizeof(uint32_t);
+                        BVH_TOPDOWN_TASK_BYTES;
     return memcap_add(b, memcap_mul(n, per_prim));
 }
 

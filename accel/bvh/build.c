@@ -138,6 +138,7 @@ void bvh_select(uint32_t *ids, uint32_t n, uint32_t k, const vec3 *centroids, in
 
 typedef struct {
     uint32_t node, begin, end;
+    uint32_t boxed; /* the node's box is set already (its parent's split knew it) */
 } task_t;
 
 /* A subtree left for the second phase: its task and the first node of the
@@ -146,6 +147,7 @@ typedef struct {
     task_t task;
     uint32_t base;
 } deferred_t;
+_Static_assert(sizeof(task_t) + sizeof(deferred_t) == BVH_TOPDOWN_TASK_BYTES, "bvh.h's BVH_TOPDOWN_TASK_BYTES");
 
 /* The top-down loop over a stack of tasks (tasks[0 .. ntasks), room for
  * one per primitive of its range), new node pairs taken from *next. With
@@ -167,8 +169,9 @@ static void topdown_loop(bvh_t *b, task_t *tasks, uint32_t ntasks, uint32_t *nex
             continue;
         }
         bvh_node *node = &b->nodes[t.node];
-        node->box = bvh_ids_bounds(ids, cnt, boxes);
-        uint32_t m = cnt > 1 ? split(ids, cnt, node->box, boxes, cent, c) : 0;
+        if (!t.boxed) node->box = bvh_ids_bounds(ids, cnt, boxes);
+        bvh_split_sides sides = {false, {box_empty(), box_empty()}};
+        uint32_t m = cnt > 1 ? split(ids, cnt, node->box, boxes, cent, c, &sides) : 0;
         if (m == 0 && cnt > c->max_leaf) m = cnt / 2; /* a split function that declined: split by count */
         if (m == 0 || m >= cnt) {
             node->index = t.begin;
@@ -179,8 +182,9 @@ static void topdown_loop(bvh_t *b, task_t *tasks, uint32_t ntasks, uint32_t *nex
         *next += 2;
         node->index = l;
         node->count = 0;
-        tasks[ntasks++] = (task_t){l + 1, t.begin + m, t.end};
-        tasks[ntasks++] = (task_t){l, t.begin, t.begin + m};
+        if (sides.known) b->nodes[l].box = sides.box[0], b->nodes[l + 1].box = sides.box[1];
+        tasks[ntasks++] = (task_t){l + 1, t.begin + m, t.end, sides.known};
+        tasks[ntasks++] = (task_t){l, t.begin, t.begin + m, sides.known};
     }
 }
 
@@ -242,7 +246,7 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
     for (uint32_t i = 0; i < n; i++) b->refs[i] = i;
     b->nrefs = n;
     uint32_t next = 1, ndeferred = 0;
-    tasks[0] = (task_t){0, 0, n};
+    tasks[0] = (task_t){0, 0, n, 0};
     topdown_loop(b, tasks, 1, &next, boxes, cent, &c, split, grain, deferred, &ndeferred);
     if (ndeferred) {
         phase2_t ph = {b, tasks, boxes, cent, &c, split, deferred, ndeferred, 0};

@@ -19,12 +19,20 @@ int bvh_finish(bvh_t *b);
  * centres in *owned, which the caller frees. NULL out of memory. */
 const vec3 *bvh_centroids(const box3 *boxes, const vec3 *centroids, uint32_t n, vec3 **owned);
 
+/* The children's boxes a split function may hand back (known: box[0] is
+ * the union of the boxes of ids[0 .. m), box[1] of ids[m .. n), bit for
+ * bit what the driver would compute), sparing the driver a pass over each
+ * child's primitives. */
+typedef struct {
+    bool known;
+    box3 box[2];
+} bvh_split_sides;
 /* A top-down builder's choice for the primitives ids[0 .. n) (n >= 2) of a
  * node with box `box`: reorder ids and return m, 0 < m < n, to split them
  * into ids[0 .. m) and ids[m .. n); or 0 to make a leaf (only allowed for
- * n <= cfg->max_leaf). */
+ * n <= cfg->max_leaf). sides->known is false on entry. */
 typedef uint32_t (*bvh_split_fn)(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
-                                 const bvh_config *cfg);
+                                 const bvh_config *cfg, bvh_split_sides *sides);
 /* The top-down driver: a node per task, children allocated in adjacent
  * pairs, no recursion (a degenerate split sequence cannot overflow the C
  * stack). */

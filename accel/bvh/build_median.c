@@ -7,9 +7,9 @@
 #include "build.h"
 
 static uint32_t median_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
-                             const bvh_config *cfg)
+                             const bvh_config *cfg, bvh_split_sides *sides)
 {
-    (void)box, (void)boxes;
+    (void)box, (void)boxes, (void)sides;
     if (n <= cfg->max_leaf) return 0;
     vec3 e = box_extent(bvh_centroid_bounds(ids, n, centroids));
     int axis = e.x >= e.y && e.x >= e.z ? 0 : e.y >= e.z ? 1 : 2;

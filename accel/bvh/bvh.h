@@ -99,6 +99,9 @@ typedef struct {
 } bvh_config;
 
 #define BVH_MAX_THREADS 64 /* threads a top-down build uses at most */
+/* Scratch bytes per primitive of a top-down build's task stack and (threads
+ * > 0) its deferred subtrees (build.c asserts it), for memory caps. */
+#define BVH_TOPDOWN_TASK_BYTES 36
 #define BVH_SUBTREES 64    /* threads > 0: subtrees of at most n / BVH_SUBTREES primitives are built in parallel */
 #define BVH_MIN_GRAIN 1024 /* ... and of at most this many when n / BVH_SUBTREES is fewer */
 
