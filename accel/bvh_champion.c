@@ -354,12 +354,20 @@ fail:
 
 /* The params say the ISA that runs: isa=auto as build() will resolve it
  * on this CPU, then wide_isa_running's rule (at width=2 every SIMD ISA
- * runs the SSE4.2 kernel, so they say sse42). */
+ * runs the SSE4.2 kernel, so they say sse42); and smallbins=off under
+ * split=sbvh, which ignores it. */
 static void champ_settle_params(accel_params *params)
 {
     uint32_t width = 8;
-    for (int i = 0; i < params->count; i++)
+    bool sbvh = false;
+    for (int i = 0; i < params->count; i++) {
         if (!strcmp(params->table[i].name, "width")) width = (uint32_t)atoi(params->values[i]);
+        if (!strcmp(params->table[i].name, "split")) sbvh = !strcmp(params->values[i], "sbvh");
+    }
+    /* split=sbvh bins every node into `bins` (champ_build): say so. */
+    for (int i = 0; i < params->count; i++)
+        if (sbvh && !strcmp(params->table[i].name, "smallbins"))
+            snprintf(params->values[i], sizeof params->values[i], "off");
     for (int i = 0; i < params->count; i++) {
         if (strcmp(params->table[i].name, "isa")) continue;
         if (!strcmp(params->values[i], "auto"))

@@ -33,7 +33,8 @@
  *               as exhaustive's on the bunny, wide_check refusing a
  *               swapped or repeating octant order
  *   refusals    width=5, isa=neon, leafsize=0, bins=1; an ISA the CPU lacks
- *   settle      isa=auto settles to the ISA build() picks */
+ *   settle      isa=auto settles to the ISA build() picks; smallbins to off
+ *               under split=sbvh */
 #include <string.h>
 #include "accel/bvh_champion.h"
 #include "testlib.h"
@@ -438,6 +439,14 @@ static void test_refusals(void)
         CHECK(got == WIDE_ISA_SSE42);
         a->ops->destroy(a);
     }
+    /* smallbins: on by default, settled to off under split=sbvh, which bins every node into `bins`. */
+    params_defaults(&p, accel_find("bvh")->params);
+    accel_settle_params(accel_find("bvh"), &p);
+    CHECK(!strcmp(params_get(&p, "smallbins"), "on"));
+    char serr[256];
+    CHECK(params_set(&p, "split", "sbvh", serr, sizeof serr) == 0);
+    accel_settle_params(accel_find("bvh"), &p);
+    CHECK_MSG(!strcmp(params_get(&p, "smallbins"), "off"), "split=sbvh settles smallbins to %s", params_get(&p, "smallbins"));
     scene_free(s);
 }
 
