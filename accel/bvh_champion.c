@@ -365,9 +365,8 @@ static void champ_settle_params(accel_params *params)
         if (!strcmp(params->table[i].name, "split")) sbvh = !strcmp(params->values[i], "sbvh");
     }
     /* split=sbvh bins every node into `bins` (champ_build): say so. */
-    for (int i = 0; i < params->count; i++)
-        if (sbvh && !strcmp(params->table[i].name, "smallbins"))
-            snprintf(params->values[i], sizeof params->values[i], "off");
+    for (int i = 0; sbvh && i < params->count; i++)
+        if (!strcmp(params->table[i].name, "smallbins")) snprintf(params->values[i], sizeof params->values[i], "off");
     for (int i = 0; i < params->count; i++) {
         if (strcmp(params->table[i].name, "isa")) continue;
         if (!strcmp(params->values[i], "auto"))
@@ -446,10 +445,7 @@ static box3 champ_bounds(const accel *a)
     if (!t->w.nnodes) return b;
     const uint32_t W = t->w.width;
     const float *rows = WIDE_ROWS(t->w.nodes);
-    for (uint32_t k = 0; k < W; k++) {
-        box3 s = {{rows[0 * W + k], rows[2 * W + k], rows[4 * W + k]}, {rows[1 * W + k], rows[3 * W + k], rows[5 * W + k]}};
-        b = box_union(b, s);
-    }
+    for (uint32_t k = 0; k < W; k++) b = box_union(b, wide_slot_box(rows, W, k));
     return b;
 }
 

@@ -87,25 +87,21 @@ static void set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t ch
 static void set_orders(wide_bvh *w, uint32_t ni, uint32_t n)
 {
     const uint32_t W = w->width;
-    char *node = (char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(W);
-    const float *rows = WIDE_ROWS(node);
+    char *node = (char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(W), *orders = node + WIDE_ORDER_OFFSET(W);
     for (uint32_t oct = 0; oct < WIDE_OCTANTS; oct++) {
-        const float sy = oct & 1 ? -1.0f : 1.0f, sz = oct & 2 ? -1.0f : 1.0f;
         float key[8];
         uint32_t ord[8];
         for (uint32_t k = 0; k < W; k++) {
-            /* twice the centre: the order is the same */
-            key[k] = (rows[0 * W + k] + rows[1 * W + k]) + sy * (rows[2 * W + k] + rows[3 * W + k]) +
-                     sz * (rows[4 * W + k] + rows[5 * W + k]);
+            if (k < n) key[k] = wide_octant_key(wide_slot_box(WIDE_ROWS(node), W, k), oct);
             uint32_t j = k;
             while (k < n && j > 0 && key[ord[j - 1]] > key[k]) ord[j] = ord[j - 1], j--;
             ord[j] = k;
         }
         uint32_t packed = 0;
         for (uint32_t i = 0; i < W; i++) packed |= ord[i] << (3 * i);
-        if (W == 2) ((uint8_t *)(node + 60))[oct] = (uint8_t)packed;
-        else if (W == 4) ((uint16_t *)(node + 120))[oct] = (uint16_t)packed;
-        else ((uint32_t *)(node + 240))[oct] = packed;
+        if (W == 2) ((uint8_t *)orders)[oct] = (uint8_t)packed;
+        else if (W == 4) ((uint16_t *)orders)[oct] = (uint16_t)packed;
+        else ((uint32_t *)orders)[oct] = packed;
     }
 }
 

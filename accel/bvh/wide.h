@@ -128,15 +128,31 @@ _Static_assert(offsetof(wide8_node, child) == 24 * 8 && offsetof(wide8_node, cou
 #define WIDE_COUNT(node, W) ((uint8_t *)((char *)(node) + 28 * (W)))
 #define WIDE_NCHILDREN(node, W) (*((uint8_t *)((char *)(node) + 29 * (W))))
 /* The order of node's slots for octant oct (0..3, below): position i
- * (i = 0 nearest) holds slot (WIDE_ORDER(node, W, oct) >> 3 i) & 7. */
+ * (i = 0 nearest) holds slot (WIDE_ORDER(node, W, oct) >> 3 i) & 7. The
+ * orders are the node's last 2W bytes, from WIDE_ORDER_OFFSET(W). */
+#define WIDE_ORDER_OFFSET(W) (30 * (W))
 #define WIDE_ORDER(node, W, oct)                                                                                      \
-    ((W) == 2   ? (uint32_t)((const uint8_t *)((const char *)(node) + 60))[oct]                                       \
-     : (W) == 4 ? (uint32_t)((const uint16_t *)((const char *)(node) + 120))[oct]                                     \
-                : ((const uint32_t *)((const char *)(node) + 240))[oct])
+    ((W) == 2   ? (uint32_t)((const uint8_t *)((const char *)(node) + WIDE_ORDER_OFFSET(2)))[oct]                     \
+     : (W) == 4 ? (uint32_t)((const uint16_t *)((const char *)(node) + WIDE_ORDER_OFFSET(4)))[oct]                    \
+                : ((const uint32_t *)((const char *)(node) + WIDE_ORDER_OFFSET(8)))[oct])
 /* The octants whose orders a node keeps: those of directions with x >= 0,
  * oct = (y < 0) | (z < 0) << 1. A ray with x < 0 walks the order of the
  * opposite octant backwards: the two orders are reverses of each other. */
 #define WIDE_OCTANTS 4
+
+/* Slot k's box from a node's rows (WIDE_ROWS). */
+static inline box3 wide_slot_box(const float *rows, uint32_t W, uint32_t k)
+{
+    return (box3){{rows[0 * W + k], rows[2 * W + k], rows[4 * W + k]}, {rows[1 * W + k], rows[3 * W + k], rows[5 * W + k]}};
+}
+
+/* A slot's key in octant oct's order: its box centre, doubled (the order is
+ * the same), projected on the octant's diagonal (1, +-1, +-1). */
+static inline float wide_octant_key(box3 b, uint32_t oct)
+{
+    const float sy = oct & 1 ? -1.0f : 1.0f, sz = oct & 2 ? -1.0f : 1.0f;
+    return (b.lo.x + b.hi.x) + sy * (b.lo.y + b.hi.y) + sz * (b.lo.z + b.hi.z);
+}
 
 /* Instruction sets of the box kernels, in order of preference. */
 typedef enum { WIDE_ISA_SCALAR = 0, WIDE_ISA_SSE42, WIDE_ISA_AVX2, WIDE_ISA_AVX512, WIDE_ISA_COUNT } wide_isa;

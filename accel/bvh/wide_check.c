@@ -19,12 +19,7 @@ static node_view view(const wide_bvh *w, uint32_t i)
     return (node_view){WIDE_ROWS(n), WIDE_CHILD(n, W), WIDE_COUNT(n, W), WIDE_NCHILDREN(n, W)};
 }
 
-static box3 slot_box(const node_view *v, uint32_t W, uint32_t k)
-{
-    box3 b = {{v->rows[0 * W + k], v->rows[2 * W + k], v->rows[4 * W + k]},
-              {v->rows[1 * W + k], v->rows[3 * W + k], v->rows[5 * W + k]}};
-    return b;
-}
+static box3 slot_box(const node_view *v, uint32_t W, uint32_t k) { return wide_slot_box(v->rows, W, k); }
 
 static bool box_contains(box3 outer, box3 inner)
 {
@@ -58,7 +53,6 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
          * by their centres on the octant's diagonal, ties by slot. */
         for (uint32_t oct = 0; oct < WIDE_OCTANTS; oct++) {
             const uint32_t perm = WIDE_ORDER((char *)w->nodes + (size_t)i * WIDE_NODE_BYTES(W), W, oct);
-            const float sy = oct & 1 ? -1.0f : 1.0f, sz = oct & 2 ? -1.0f : 1.0f;
             unsigned used = 0;
             float prev = 0;
             uint32_t prev_slot = 0;
@@ -68,8 +62,7 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
                     FAIL("node %u octant %u: position %u holds slot %u (order %#x)", i, oct, pos, k, perm);
                 used |= 1u << k;
                 if (pos >= v.nchildren) continue;
-                box3 b = slot_box(&v, W, k);
-                float key = (b.lo.x + b.hi.x) + sy * (b.lo.y + b.hi.y) + sz * (b.lo.z + b.hi.z);
+                float key = wide_octant_key(slot_box(&v, W, k), oct);
                 if (pos && (key < prev || (key == prev && k < prev_slot)))
                     FAIL("node %u octant %u: slot %u before slot %u out of order", i, oct, prev_slot, k);
                 prev = key, prev_slot = k;
