@@ -141,6 +141,27 @@ WIDE_FN uint32_t wide_push_octant(const wide_ray *r, const char *node, unsigned 
     return sp;
 }
 
+/* A child about to be pushed, fetched while the nodes and leaves before
+ * it are visited: an interior child's box rows (its cache lines), a packed
+ * leaf's first packet (perf found a quarter of the packet test's time on
+ * its first load). Measured on the bunny, 3 x 11 pairs on a loaded
+ * machine: median ratios 1.18/1.48/1.67 against 1.26/1.57/1.67 without
+ * (primary/shadow/random), a small gain at most. */
+WIDE_FN void wide_prefetch(const wide_bvh *w, uint32_t ch, const uint32_t W)
+{
+    if (!(ch & WIDE_LEAF)) {
+        const char *nb = (const char *)w->nodes + (size_t)ch * WIDE_NODE_BYTES(W);
+        __builtin_prefetch(nb);
+        if (W >= 4) __builtin_prefetch(nb + 64);
+        if (W == 8) __builtin_prefetch(nb + 128);
+    } else if (ch & WIDE_PACKED) {
+        const char *pb = (const char *)(w->packets + (ch & WIDE_INDEX));
+        __builtin_prefetch(pb);
+        __builtin_prefetch(pb + 64);
+        __builtin_prefetch(pb + 128);
+    }
+}
+
 /* The walk for one ordering (octant: order=octant's, a constant where
  * wide_walk calls it, so each ordering is compiled on its own: with the
  * tree's order tested per node the default walk was 8 % slower on Sponza's
@@ -175,47 +196,53 @@ WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *
             }
             sp = wide_push_octant(&r, node, mask, tn, stack, sp, W);
         } else {
-            /* order=distance: the children hit, nearest first (insertion
-             * by distance, ties by slot; any hit: slot order, unsorted, as
-             * Embree's any-hit traversal does), pushed farthest first. */
-            uint32_t ord[8], m = 0;
-            while (mask) {
-                uint32_t k = (uint32_t)__builtin_ctz(mask), j = m++;
-                mask &= mask - 1;
-                while (!shadow && j > 0 && tn[ord[j - 1]] > tn[k]) ord[j] = ord[j - 1], j--;
-                ord[j] = k;
-            }
-            /* The nearest child, when interior, is visited next without a
-             * push and pop (it cannot be dropped: its a <= z <= the current
-             * end); otherwise it is pushed last, so popped first, like the
-             * rest. */
-            uint32_t last = m && !(child[ord[0]] & WIDE_LEAF) ? 1 : 0;
-            /* The nodes to come, fetched while this one's leaves are tested
-             * (the cache lines of their box rows). Measured on the bunny,
-             * 3 x 11 pairs on a loaded machine: median ratios 1.18/1.48/1.67
-             * against 1.26/1.57/1.67 without (primary/shadow/random), a small
-             * gain at most. */
-            for (uint32_t i = 0; i < m; i++) {
-                uint32_t ch = child[ord[i]];
-                if (!(ch & WIDE_LEAF)) {
-                    const char *nb = (const char *)w->nodes + (size_t)ch * WIDE_NODE_BYTES(W);
-                    __builtin_prefetch(nb);
-                    if (W >= 4) __builtin_prefetch(nb + 64);
-                    if (W == 8) __builtin_prefetch(nb + 128);
-                } else if (ch & WIDE_PACKED) {
-                    /* A leaf's first packet: perf found a quarter of the
-                     * packet test's time on its first load. */
-                    const char *pb = (const char *)(w->packets + (ch & WIDE_INDEX));
-                    __builtin_prefetch(pb);
-                    __builtin_prefetch(pb + 64);
-                    __builtin_prefetch(pb + 128);
+            /* order=distance: the children hit, nearest first (ties by
+             * slot; any hit: slot order, unsorted, as Embree's any-hit
+             * traversal does), pushed farthest first. The nearest child,
+             * when interior, is visited next without a push and pop (it
+             * cannot be dropped: its a <= z <= the current end); otherwise
+             * it is pushed last, so popped first, like the rest. One or two
+             * children hit (most nodes: Embree's traversal has the same two
+             * cases, bvh_traverser.h) take branches of their own, the same
+             * order as the general insertion sort below. */
+            if (mask) {
+                const uint32_t k0 = (uint32_t)__builtin_ctz(mask);
+                const unsigned rest = mask & (mask - 1);
+                if (!rest) {
+                    if (!(child[k0] & WIDE_LEAF)) {
+                        cur = child[k0];
+                        continue;
+                    }
+                    stack[sp++] = (wide_entry){child[k0], count[k0], tn[k0]};
+                } else if (!(rest & (rest - 1))) {
+                    const uint32_t k1 = (uint32_t)__builtin_ctz(rest);
+                    const bool swap = !shadow && tn[k0] > tn[k1];
+                    const uint32_t near = swap ? k1 : k0, far = swap ? k0 : k1;
+                    wide_prefetch(w, child[far], W);
+                    stack[sp++] = (wide_entry){child[far], count[far], tn[far]};
+                    if (!(child[near] & WIDE_LEAF)) {
+                        cur = child[near];
+                        continue;
+                    }
+                    stack[sp++] = (wide_entry){child[near], count[near], tn[near]};
+                } else {
+                    uint32_t ord[8], m = 0;
+                    while (mask) {
+                        uint32_t k = (uint32_t)__builtin_ctz(mask), j = m++;
+                        mask &= mask - 1;
+                        while (!shadow && j > 0 && tn[ord[j - 1]] > tn[k]) ord[j] = ord[j - 1], j--;
+                        ord[j] = k;
+                    }
+                    uint32_t last = !(child[ord[0]] & WIDE_LEAF) ? 1 : 0;
+                    for (uint32_t i = m; i-- > last;) {
+                        wide_prefetch(w, child[ord[i]], W);
+                        stack[sp++] = (wide_entry){child[ord[i]], count[ord[i]], tn[ord[i]]};
+                    }
+                    if (last) {
+                        cur = child[ord[0]];
+                        continue;
+                    }
                 }
-            }
-            for (uint32_t i = m; i-- > last;)
-                stack[sp++] = (wide_entry){child[ord[i]], count[ord[i]], tn[ord[i]]};
-            if (last) {
-                cur = child[ord[0]];
-                continue;
             }
         }
 
