@@ -203,7 +203,7 @@ WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *
              * cannot be dropped: its a <= z <= the current end); otherwise
              * it is pushed last, so popped first, like the rest. One or two
              * children hit (most nodes: Embree's traversal has the same two
-             * cases, bvh_traverser.h) take branches of their own, the same
+             * cases, kernels/bvh/bvh_traverser1.h) take branches of their own, the same
              * order as the general insertion sort below. */
             if (mask) {
                 const uint32_t k0 = (uint32_t)__builtin_ctz(mask);
