@@ -72,7 +72,8 @@
  *                 spatial splits (build_sbvh.c): a primitive may be in
  *                 several leaves (refs_per_prim > 1, at most 2), the
  *                 counters count a primitive once per leaf that tests it;
- *                 built on one thread (the same tree for any count).
+ *                 built on the harness's threads as split=object is
+ *                 (the same tree for any count).
  *   alpha=1e-5    sbvh: a spatial split is looked for where the object
  *                 split's two boxes overlap by more than alpha times the
  *                 root's surface area, 0..1 (Stich et al. s3.2).
@@ -141,8 +142,7 @@
  * prim_*_leaf call a leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
  * refs_per_prim, avg_children (used slots per node).
  *
- * Not yet: a multithreaded sbvh build and
- * reference unsplitting; compress=on (Ylitie, Karras, Laine, "Efficient
+ * Not yet: reference unsplitting; compress=on (Ylitie, Karras, Laine, "Efficient
  * Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG
  * 2017: child boxes as 8-bit plane offsets from the node's box with a
  * power-of-two scale per axis, rounded outward) is not implemented: it
@@ -274,8 +274,11 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
         return NULL;
     }
     /* sbvh: references up to twice the primitives (bvh_sbvh_config.dup),
-     * 32 bytes each while building, and the tree over them. */
-    if (memcap_exceeded(sbvh ? memcap_add(binary_bytes(2 * (uint64_t)n), memcap_mul(2 * (uint64_t)n, 32)) : binary_bytes(n),
+     * 32 bytes each while building, and the tree over them; and once more
+     * the binary bytes of 2n for the threaded build's subtrees (their
+     * references' copies and their trees, within budgets that sum to 2n). */
+    const uint64_t sbvh_bytes = memcap_add(memcap_mul(2, binary_bytes(2 * (uint64_t)n)), memcap_mul(2 * (uint64_t)n, 32));
+    if (memcap_exceeded(sbvh ? sbvh_bytes : binary_bytes(n),
                         (uint64_t)memcap, err, errlen, "bvh: the binary SAH build over %u primitives", n))
         return NULL;
 

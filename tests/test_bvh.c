@@ -298,6 +298,43 @@ static int build_sbvh(bvh_t *b, const prims_t *p, double alpha, uint32_t threads
     return bvh_build_sbvh(b, p->bounds, p->count, &cfg, &sc);
 }
 
+/* An sbvh tree over p: every primitive in some leaf, every node's box
+ * holding its children's, and nrays random rays' closest hits and
+ * occlusion those of brute force. */
+static void check_sbvh_tree(const bvh_t *sb, const prims_t *p, int nrays)
+{
+    uint8_t *seen = calloc(p->count, 1);
+    for (uint32_t i = 0; i < sb->nnodes; i++) {
+        const bvh_node *nd = &sb->nodes[i];
+        if (nd->count) {
+            for (uint32_t k = 0; k < nd->count; k++) seen[sb->refs[nd->index + k]] = 1;
+            continue;
+        }
+        for (uint32_t k = 0; k < 2; k++) {
+            box3 cb = sb->nodes[nd->index + k].box;
+            CHECK(box_is_empty(cb) || (v3_get(cb.lo, 0) >= v3_get(nd->box.lo, 0) && v3_get(cb.hi, 0) <= v3_get(nd->box.hi, 0) &&
+                                       v3_get(cb.lo, 1) >= v3_get(nd->box.lo, 1) && v3_get(cb.hi, 1) <= v3_get(nd->box.hi, 1) &&
+                                       v3_get(cb.lo, 2) >= v3_get(nd->box.lo, 2) && v3_get(cb.hi, 2) <= v3_get(nd->box.hi, 2)));
+        }
+    }
+    uint32_t missing = 0;
+    for (uint32_t i = 0; i < p->count; i++) missing += !seen[i];
+    CHECK_MSG(missing == 0, "%u primitives in no leaf", missing);
+    free(seen);
+    uint32_t wrong = 0, hits = 0;
+    for (int i = 0; i < nrays; i++) {
+        ray_t ray = random_ray(p->box, i % 3);
+        hit_t h = hit_none(&ray), ref = hit_none(&ray);
+        counters_t c = {0};
+        bool got = bvh_intersect_dfs(sb, p, NULL, &ray, &h, &c);
+        bool want = false;
+        for (uint32_t k = 0; k < p->count; k++) want |= prim_intersect(p, k, &ray, &ref, &c);
+        hits += want;
+        wrong += got != want || (want && h.t != ref.t) || bvh_occluded_dfs(sb, p, NULL, &ray, &c) != want;
+    }
+    CHECK_MSG(wrong == 0 && hits > (uint32_t)nrays / 30, "sbvh: %u wrong answers of %d (%u hits)", wrong, nrays, hits);
+}
+
 /* Spatial splits (Stich et al. 2009) on long thin triangles crossing a
  * cloud of small ones, where object splits' children overlap: a tree of
  * lower SAH cost than the object-split one, with primitives in several
@@ -331,36 +368,7 @@ static void test_sbvh_once(void)
     CHECK(sb.nrefs > p.count && sb.nrefs <= 2 * p.count && one.nrefs == p.count);
     CHECK(sb.nnodes == sb2.nnodes && sb.nrefs == sb2.nrefs && !memcmp(sb.nodes, sb2.nodes, sb.nnodes * sizeof *sb.nodes) &&
           !memcmp(sb.refs, sb2.refs, sb.nrefs * sizeof *sb.refs));
-    uint8_t *seen = calloc(p.count, 1);
-    for (uint32_t i = 0; i < sb.nnodes; i++) {
-        const bvh_node *nd = &sb.nodes[i];
-        if (nd->count) {
-            for (uint32_t k = 0; k < nd->count; k++) seen[sb.refs[nd->index + k]] = 1;
-            continue;
-        }
-        for (uint32_t k = 0; k < 2; k++) {
-            box3 cb = sb.nodes[nd->index + k].box;
-            CHECK(box_is_empty(cb) || (v3_get(cb.lo, 0) >= v3_get(nd->box.lo, 0) && v3_get(cb.hi, 0) <= v3_get(nd->box.hi, 0) &&
-                                       v3_get(cb.lo, 1) >= v3_get(nd->box.lo, 1) && v3_get(cb.hi, 1) <= v3_get(nd->box.hi, 1) &&
-                                       v3_get(cb.lo, 2) >= v3_get(nd->box.lo, 2) && v3_get(cb.hi, 2) <= v3_get(nd->box.hi, 2)));
-        }
-    }
-    uint32_t missing = 0;
-    for (uint32_t i = 0; i < p.count; i++) missing += !seen[i];
-    CHECK_MSG(missing == 0, "%u primitives in no leaf", missing);
-    free(seen);
-    uint32_t wrong = 0, hits = 0;
-    for (int i = 0; i < 3000; i++) {
-        ray_t ray = random_ray(p.box, i % 3);
-        hit_t h = hit_none(&ray), ref = hit_none(&ray);
-        counters_t c = {0};
-        bool got = bvh_intersect_dfs(&sb, &p, NULL, &ray, &h, &c);
-        bool want = false;
-        for (uint32_t k = 0; k < p.count; k++) want |= prim_intersect(&p, k, &ray, &ref, &c);
-        hits += want;
-        wrong += got != want || (want && h.t != ref.t) || bvh_occluded_dfs(&sb, &p, NULL, &ray, &c) != want;
-    }
-    CHECK_MSG(wrong == 0 && hits > 100, "sbvh: %u wrong answers of 3000 (%u hits)", wrong, hits);
+    check_sbvh_tree(&sb, &p, 3000);
     bvh_free(&obj), bvh_free(&sb), bvh_free(&sb2), bvh_free(&one);
     prims_free(&p);
 }
@@ -377,6 +385,47 @@ static void test_sbvh(void)
     sbvh_estimated_bins = true;
     test_sbvh_once();
     sbvh_estimated_bins = false;
+}
+
+/* The threaded sbvh build (build_sbvh.c): 6000 triangles, so the top
+ * defers several subtrees of at most BVH_MIN_GRAIN references, each built
+ * with a budget of its own. Built on 1, 2 and 4 threads: the same nodes
+ * and refs byte for byte, within the 2n budget, spatial splits taken,
+ * and a sound tree (check_sbvh_tree); on 0 threads (one pass, one budget
+ * for the whole tree) a sound tree too, with the same bound. */
+static void test_sbvh_subtrees(void)
+{
+    prims_t p;
+    prims_init(&p);
+    for (int i = 0; i < 5400; i++) {
+        vec3 c = rnd_v3(-20, 20);
+        add_triangle(&p, c, v3_add(c, rnd_v3(-0.4f, 0.4f)), v3_add(c, rnd_v3(-0.4f, 0.4f)));
+    }
+    for (int i = 0; i < 600; i++) {
+        float y = rnd(-20, 20), z = rnd(-20, 20);
+        add_triangle(&p, v3(-20, y, z), v3(20, y + rnd(-2, 2), z), v3(20, y + rnd(-2, 2), z + 0.3f));
+    }
+    finish(&p);
+    sbvh_estimated_bins = true;
+    bvh_t t[4];
+    const uint32_t threads[4] = {1, 2, 4, 0};
+    for (int k = 0; k < 4; k++) CHECK(build_sbvh(&t[k], &p, 1e-5, threads[k]) == 0);
+    for (int k = 1; k < 3; k++)
+        CHECK_MSG(t[k].nnodes == t[0].nnodes && t[k].nrefs == t[0].nrefs &&
+                      !memcmp(t[k].nodes, t[0].nodes, t[0].nnodes * sizeof *t[0].nodes) &&
+                      !memcmp(t[k].refs, t[0].refs, t[0].nrefs * sizeof *t[0].refs),
+                  "sbvh on %u threads: %u nodes %u refs, on 1: %u nodes %u refs", threads[k], t[k].nnodes, t[k].nrefs,
+                  t[0].nnodes, t[0].nrefs);
+    for (int k = 0; k < 4; k += 3) {
+        CHECK_MSG(t[k].nrefs > p.count && t[k].nrefs <= 2 * p.count, "sbvh on %u threads: %u refs over %u primitives",
+                  threads[k], t[k].nrefs, p.count);
+        check_sbvh_tree(&t[k], &p, 600);
+    }
+    printf("sbvh subtrees: %u refs over %u primitives on 1, 2 and 4 threads (the same tree), %u on 0\n", t[0].nrefs,
+           p.count, t[3].nrefs);
+    for (int k = 0; k < 4; k++) bvh_free(&t[k]);
+    sbvh_estimated_bins = false;
+    prims_free(&p);
 }
 
 /* prim_split_bounds, an estimate of prim_clip_bounds of a box's two halves:
@@ -597,6 +646,7 @@ int main(void)
     test_identical_and_empty();
     test_denormal_extent();
     test_sbvh();
+    test_sbvh_subtrees();
     test_split_bounds();
     test_sah_best();
     test_soup_and_cluster();

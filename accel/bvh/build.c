@@ -9,8 +9,9 @@
  * recursion that parallel BVH builders use below their top levels (I. Wald,
  * "Fast Construction of SAH BVHs on the Intel Many Integrated Core (MIC)
  * Architecture", IEEE TVCG 18(1), 2012: subtrees as independent tasks
- * once there are enough of them; its top levels also bin in parallel,
- * which this does not). Where a
+ * once there are enough of them, and its top levels bin in parallel: here
+ * a top node of more than max(grain, BVH_PARALLEL_BINS) primitives bins
+ * them in fixed chunks on the threads, build_sah.c). Where a
  * subtree is cut depends on n and the splits alone and each subtree's
  * nodes land in its own range, so the tree, node numbers included, is the
  * same for every thread count. */
@@ -32,6 +33,7 @@ void bvh_config_defaults(bvh_config *cfg)
     cfg->leaf_block = 1;
     cfg->threads = 0;
     cfg->insert_seed = 0;
+    cfg->parallel_from = 0;
 }
 
 bvh_config bvh_config_or_defaults(const bvh_config *cfg)
@@ -188,10 +190,41 @@ static void topdown_loop(bvh_t *b, task_t *tasks, uint32_t ntasks, uint32_t *nex
     }
 }
 
-/* The second phase: workers take the deferred subtrees in order, each
- * building its own on its own slice of refs, of the task array (a
- * subtree's task stack never holds more than its primitives) and of the
- * nodes (its reserved range), so nothing is shared but the next index. */
+/* bvh_parallel_for (build.h): workers take the jobs in order from one
+ * atomic counter, so nothing is shared but the next index. */
+typedef struct {
+    void (*job)(void *ctx, uint32_t i);
+    void *ctx;
+    uint32_t count;
+    atomic_uint taken;
+} parallel_for_t;
+
+static void *parallel_worker(void *arg)
+{
+    parallel_for_t *pf = arg;
+    for (;;) {
+        uint32_t i = atomic_fetch_add(&pf->taken, 1);
+        if (i >= pf->count) return NULL;
+        pf->job(pf->ctx, i);
+    }
+}
+
+void bvh_parallel_for(uint32_t count, uint32_t threads, void (*job)(void *ctx, uint32_t i), void *ctx)
+{
+    parallel_for_t pf = {job, ctx, count, 0};
+    uint32_t nworkers = threads < count ? threads : count, started = 0;
+    pthread_t tid[BVH_MAX_THREADS];
+    if (nworkers > BVH_MAX_THREADS) nworkers = BVH_MAX_THREADS;
+    /* The calling thread is one worker; a thread that cannot be started
+     * leaves its share to the others. */
+    while (started + 1 < nworkers && pthread_create(&tid[started], NULL, parallel_worker, &pf) == 0) started++;
+    parallel_worker(&pf);
+    for (uint32_t i = 0; i < started; i++) pthread_join(tid[i], NULL);
+}
+
+/* The second phase: each deferred subtree built on its own slice of refs,
+ * of the task array (a subtree's task stack never holds more than its
+ * primitives) and of the nodes (its reserved range). */
 typedef struct {
     bvh_t *b;
     task_t *tasks;
@@ -200,25 +233,19 @@ typedef struct {
     const bvh_config *c;
     bvh_split_fn split;
     const deferred_t *deferred;
-    uint32_t ndeferred;
-    atomic_uint taken;
 } phase2_t;
 
-static void *phase2_worker(void *arg)
+static void phase2_subtree(void *arg, uint32_t i)
 {
     phase2_t *ph = arg;
-    for (;;) {
-        uint32_t i = atomic_fetch_add(&ph->taken, 1);
-        if (i >= ph->ndeferred) return NULL;
-        const deferred_t *d = &ph->deferred[i];
-        uint32_t next = d->base, end = d->base + 2 * (d->task.end - d->task.begin) - 2;
-        task_t *tasks = ph->tasks + d->task.begin;
-        tasks[0] = d->task;
-        topdown_loop(ph->b, tasks, 1, &next, ph->boxes, ph->cent, ph->c, ph->split, 0, NULL, NULL);
-        /* Reserved nodes the subtree did not use: zeroed, and never
-         * reached from the root. */
-        memset(&ph->b->nodes[next], 0, (size_t)(end - next) * sizeof *ph->b->nodes);
-    }
+    const deferred_t *d = &ph->deferred[i];
+    uint32_t next = d->base, end = d->base + 2 * (d->task.end - d->task.begin) - 2;
+    task_t *tasks = ph->tasks + d->task.begin;
+    tasks[0] = d->task;
+    topdown_loop(ph->b, tasks, 1, &next, ph->boxes, ph->cent, ph->c, ph->split, 0, NULL, NULL);
+    /* Reserved nodes the subtree did not use: zeroed, and never reached
+     * from the root. */
+    memset(&ph->b->nodes[next], 0, (size_t)(end - next) * sizeof *ph->b->nodes);
 }
 
 int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg,
@@ -247,17 +274,15 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
     b->nrefs = n;
     uint32_t next = 1, ndeferred = 0;
     tasks[0] = (task_t){0, 0, n, 0};
-    topdown_loop(b, tasks, 1, &next, boxes, cent, &c, split, grain, deferred, &ndeferred);
+    /* The top's nodes bin in parallel, the subtrees' each on its thread. */
+    bvh_config top = c;
+    top.parallel_from = grain > BVH_PARALLEL_BINS ? grain : BVH_PARALLEL_BINS;
+    if (!grain) top.parallel_from = 0;
+    c.parallel_from = 0;
+    topdown_loop(b, tasks, 1, &next, boxes, cent, &top, split, grain, deferred, &ndeferred);
     if (ndeferred) {
-        phase2_t ph = {b, tasks, boxes, cent, &c, split, deferred, ndeferred, 0};
-        uint32_t nworkers = c.threads < ndeferred ? c.threads : ndeferred, started = 0;
-        pthread_t tid[BVH_MAX_THREADS];
-        if (nworkers > BVH_MAX_THREADS) nworkers = BVH_MAX_THREADS;
-        /* The calling thread is one worker; a thread that cannot be
-         * started leaves its share to the others. */
-        while (started + 1 < nworkers && pthread_create(&tid[started], NULL, phase2_worker, &ph) == 0) started++;
-        phase2_worker(&ph);
-        for (uint32_t i = 0; i < started; i++) pthread_join(tid[i], NULL);
+        phase2_t ph = {b, tasks, boxes, cent, &c, split, deferred};
+        bvh_parallel_for(ndeferred, c.threads, phase2_subtree, &ph);
     }
     b->nnodes = next;
     free(deferred);

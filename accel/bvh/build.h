@@ -39,6 +39,13 @@ typedef uint32_t (*bvh_split_fn)(uint32_t *ids, uint32_t n, box3 box, const box3
 int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg,
                       bvh_split_fn split);
 
+/* job(ctx, i) for every i in [0, count), each once, on up to threads
+ * threads (at most BVH_MAX_THREADS; the calling thread is one of them;
+ * fewer when a thread cannot be started), returning when all are done.
+ * The jobs are taken in order, but finish in any: each must write only its
+ * own results. */
+void bvh_parallel_for(uint32_t count, uint32_t threads, void (*job)(void *ctx, uint32_t i), void *ctx);
+
 /* The binned SAH (build_sah.c) in parts, for builders that weigh its
  * object split against others (build_sbvh.c). bvh_sah_best: the cheapest
  * cut of ids[0 .. n) (a node with box `box`) over the three axes; cost is

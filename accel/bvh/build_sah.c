@@ -61,6 +61,57 @@ uint32_t bvh_sah_bins(uint32_t n, const bvh_config *cfg)
     return cfg->small_bins && small < cfg->bins ? small : cfg->bins;
 }
 
+/* The bins of ids[0 .. n) on the live axes (the others left empty). Counts
+ * sum and boxes unite exactly, so bins made over parts of ids and merged
+ * are these bins bit for bit. */
+typedef struct {
+    float lo[3], scale[3];
+    bool live[3];
+    uint32_t nb;
+} sah_binning;
+
+static void sah_bin(const sah_binning *bm, const uint32_t *ids, uint32_t n, const box3 *boxes,
+                    const vec3 *centroids, bin_t bins[3][SAH_MAX_BINS])
+{
+    for (int axis = 0; axis < 3; axis++)
+        for (uint32_t k = 0; k < bm->nb; k++) bins[axis][k] = (bin_t){box4_empty(), 0};
+    /* The three axes binned in one pass over the primitives (Wald 2007
+     * bins all three at once): each box and centroid is fetched through
+     * ids once instead of once per axis. Boxes as box4 (prims/box4.h): the
+     * same bins, faster. */
+    for (uint32_t i = 0; i < n; i++) {
+        const vec3 c = centroids[ids[i]];
+        const box4 bx = box4_load(&boxes[ids[i]]);
+        for (int axis = 0; axis < 3; axis++) {
+            if (!bm->live[axis]) continue;
+            bin_t *bn = &bins[axis][slot_of(v3_get(c, axis), bm->lo[axis], bm->scale[axis], bm->nb)];
+            bn->box = box4_union(bn->box, bx);
+            bn->count++;
+        }
+    }
+}
+
+/* A large node's binning on the threads: ids cut into SAH_BIN_CHUNKS parts
+ * (a constant, not the thread count, though any cut gives the same bins),
+ * each binned on its own, merged after. */
+#define SAH_BIN_CHUNKS 8
+typedef struct {
+    const sah_binning *bm;
+    const uint32_t *ids;
+    uint32_t n;
+    const box3 *boxes;
+    const vec3 *centroids;
+    bin_t (*bins)[3][SAH_MAX_BINS]; /* [SAH_BIN_CHUNKS] */
+} sah_chunks;
+
+static void sah_chunk(void *arg, uint32_t i)
+{
+    const sah_chunks *ch = arg;
+    uint32_t begin = (uint32_t)((uint64_t)ch->n * i / SAH_BIN_CHUNKS);
+    uint32_t end = (uint32_t)((uint64_t)ch->n * (i + 1) / SAH_BIN_CHUNKS);
+    sah_bin(ch->bm, ch->ids + begin, end - begin, ch->boxes, ch->centroids, ch->bins[i]);
+}
+
 bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
                             const bvh_config *cfg)
 {
@@ -68,29 +119,30 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
     box3 cb = bvh_centroid_bounds(ids, n, centroids);
     double area = box_area(box);
     bvh_sah_choice ch = {.cost = INFINITY, .axis = -1, .slot = 0, .bins = nb, .cb = cb, .left = box_empty(), .right = box_empty()};
-    /* The three axes binned in one pass over the primitives (Wald 2007
-     * bins all three at once): each box and centroid is fetched through
-     * ids once instead of once per axis, into the bins a pass per axis
-     * fills. Boxes as box4 (prims/box4.h): the same bins, faster. */
-    float axis_lo[3] = {0}, axis_scale[3] = {0};
-    bool live[3] = {false};
-    bin_t bins[3][SAH_MAX_BINS];
+    sah_binning bm = {.nb = nb};
+    bool *live = bm.live;
     for (int axis = 0; axis < 3; axis++) {
-        axis_lo[axis] = v3_get(cb.lo, axis);
-        float ext = v3_get(cb.hi, axis) - axis_lo[axis];
+        bm.lo[axis] = v3_get(cb.lo, axis);
+        float ext = v3_get(cb.hi, axis) - bm.lo[axis];
         live[axis] = ext > 0.0f;
-        axis_scale[axis] = live[axis] ? (float)nb / ext : 0.0f;
-        for (uint32_t k = 0; k < nb; k++) bins[axis][k] = (bin_t){box4_empty(), 0};
+        bm.scale[axis] = live[axis] ? (float)nb / ext : 0.0f;
     }
-    for (uint32_t i = 0; i < n; i++) {
-        const vec3 c = centroids[ids[i]];
-        const box4 bx = box4_load(&boxes[ids[i]]);
-        for (int axis = 0; axis < 3; axis++) {
-            if (!live[axis]) continue;
-            bin_t *bn = &bins[axis][slot_of(v3_get(c, axis), axis_lo[axis], axis_scale[axis], nb)];
-            bn->box = box4_union(bn->box, bx);
-            bn->count++;
-        }
+    bin_t local[3][SAH_MAX_BINS], (*bins)[SAH_MAX_BINS] = local, (*chunk)[3][SAH_MAX_BINS] = NULL;
+    /* Chunked whenever the driver asks, on any number of threads, so the
+     * order of the unions (which may decide the sign of a zero in the
+     * sides' boxes) is the same for every count. */
+    if (cfg->parallel_from && n > cfg->parallel_from && (chunk = malloc(SAH_BIN_CHUNKS * sizeof *chunk))) {
+        sah_chunks job = {&bm, ids, n, boxes, centroids, chunk};
+        bvh_parallel_for(SAH_BIN_CHUNKS, cfg->threads, sah_chunk, &job);
+        for (uint32_t i = 1; i < SAH_BIN_CHUNKS; i++)
+            for (int axis = 0; axis < 3; axis++)
+                for (uint32_t k = 0; k < nb; k++) {
+                    chunk[0][axis][k].box = box4_union(chunk[0][axis][k].box, chunk[i][axis][k].box);
+                    chunk[0][axis][k].count += chunk[i][axis][k].count;
+                }
+        bins = chunk[0];
+    } else {
+        sah_bin(&bm, ids, n, boxes, centroids, local);
     }
     for (int axis = 0; axis < 3; axis++) {
         if (!live[axis]) continue;
@@ -116,6 +168,7 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
             if (cost < ch.cost) ch.cost = cost, ch.axis = axis, ch.slot = k, ch.left = box4_store(acc), ch.right = box4_store(right_box[k]);
         }
     }
+    free(chunk);
     return ch;
 }
 

@@ -96,6 +96,10 @@ typedef struct {
                            * the subtrees below the top on that many threads (up to BVH_MAX_THREADS): the same
                            * tree for every count >= 1, whose nodes[] may hold unused zeroed nodes that no node
                            * points to */
+    uint32_t parallel_from; /* set by the drivers, not by callers (bvh_config_defaults: 0): with threads > 1, a
+                             * node of more than this many primitives bins them on the threads (the top of a
+                             * threaded build, above its parallel subtrees); the bins, and so the tree, are
+                             * the same as on one thread */
 } bvh_config;
 
 #define BVH_MAX_THREADS 64 /* threads a top-down build uses at most */
@@ -104,6 +108,7 @@ typedef struct {
 #define BVH_TOPDOWN_TASK_BYTES 36
 #define BVH_SUBTREES 64    /* threads > 0: subtrees of at most n / BVH_SUBTREES primitives are built in parallel */
 #define BVH_MIN_GRAIN 1024 /* ... and of at most this many when n / BVH_SUBTREES is fewer */
+#define BVH_PARALLEL_BINS 32768 /* threads > 1: the top's nodes of more than this many (and the grain) bin in parallel */
 
 void bvh_config_defaults(bvh_config *cfg);
 
@@ -120,7 +125,8 @@ int bvh_build_insert(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_
  * HPG 2009), which alone needs the primitives themselves, through clip:
  * the bounds of primitive prim's part inside box (empty when it has none;
  * never outside box or the primitive's box). A primitive may end up in
- * several leaves (refs holds nrefs >= n ids). cfg->threads is not used. */
+ * several leaves (refs holds nrefs >= n ids). cfg->threads as for the
+ * top-down builds: the same tree for every count >= 1 (build_sbvh.c). */
 typedef struct {
     double alpha; /* try a spatial split when the object split's overlap passes alpha A(root) (default 1e-5) */
     double dup;   /* references beyond n at most dup n (default 1; 0: none, so no spatial split) */
