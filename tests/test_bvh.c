@@ -335,6 +335,23 @@ static void check_sbvh_tree(const bvh_t *sb, const prims_t *p, int nrays)
     CHECK_MSG(wrong == 0 && hits > (uint32_t)nrays / 30, "sbvh: %u wrong answers of %d (%u hits)", wrong, nrays, hits);
 }
 
+/* sbvh's scene: nsmall small triangles (sides up to 0.03 half) in the
+ * cube [-half, half]^3 crossed by nthin long thin ones spanning it in x. */
+static void thin_across_small(prims_t *p, int nsmall, int nthin, float half)
+{
+    prims_init(p);
+    const float side = 0.03f * half, dy = 0.1f * half, dz = 0.02f * half;
+    for (int i = 0; i < nsmall; i++) {
+        vec3 c = rnd_v3(-half, half);
+        add_triangle(p, c, v3_add(c, rnd_v3(-side, side)), v3_add(c, rnd_v3(-side, side)));
+    }
+    for (int i = 0; i < nthin; i++) {
+        float y = rnd(-half, half), z = rnd(-half, half);
+        add_triangle(p, v3(-half, y, z), v3(half, y + rnd(-dy, dy), z), v3(half, y + rnd(-dy, dy), z + dz));
+    }
+    finish(p);
+}
+
 /* Spatial splits (Stich et al. 2009) on long thin triangles crossing a
  * cloud of small ones, where object splits' children overlap: a tree of
  * lower SAH cost than the object-split one, with primitives in several
@@ -347,16 +364,7 @@ static double sbvh_clipped_cost; /* the clipped-bins tree's SAH cost, which the 
 static void test_sbvh_once(void)
 {
     prims_t p;
-    prims_init(&p);
-    for (int i = 0; i < 300; i++) {
-        vec3 c = rnd_v3(-10, 10);
-        add_triangle(&p, c, v3_add(c, rnd_v3(-0.3f, 0.3f)), v3_add(c, rnd_v3(-0.3f, 0.3f)));
-    }
-    for (int i = 0; i < 60; i++) {
-        float y = rnd(-10, 10), z = rnd(-10, 10);
-        add_triangle(&p, v3(-10, y, z), v3(10, y + rnd(-1, 1), z), v3(10, y + rnd(-1, 1), z + 0.2f));
-    }
-    finish(&p);
+    thin_across_small(&p, 300, 60, 10);
     bvh_t obj = build(&builders[1], &p, 4), sb, sb2, one;
     CHECK(build_sbvh(&sb, &p, 1e-5, 0) == 0 && build_sbvh(&sb2, &p, 1e-5, 2) == 0 && build_sbvh(&one, &p, 1.0, 0) == 0);
     double cobj = bvh_sah_cost(&obj, 1, 1), csb = bvh_sah_cost(&sb, 1, 1);
@@ -396,16 +404,7 @@ static void test_sbvh(void)
 static void test_sbvh_subtrees(void)
 {
     prims_t p;
-    prims_init(&p);
-    for (int i = 0; i < 5400; i++) {
-        vec3 c = rnd_v3(-20, 20);
-        add_triangle(&p, c, v3_add(c, rnd_v3(-0.4f, 0.4f)), v3_add(c, rnd_v3(-0.4f, 0.4f)));
-    }
-    for (int i = 0; i < 600; i++) {
-        float y = rnd(-20, 20), z = rnd(-20, 20);
-        add_triangle(&p, v3(-20, y, z), v3(20, y + rnd(-2, 2), z), v3(20, y + rnd(-2, 2), z + 0.3f));
-    }
-    finish(&p);
+    thin_across_small(&p, 5400, 600, 20);
     sbvh_estimated_bins = true;
     bvh_t t[4];
     const uint32_t threads[4] = {1, 2, 4, 0};

@@ -45,7 +45,21 @@ bvh_config bvh_config_or_defaults(const bvh_config *cfg)
     if (c.leaf_block < 1) c.leaf_block = 1;
     if (c.bins < 2) c.bins = 2;
     if (c.bins > 256) c.bins = 256;
+    c.parallel_from = 0; /* the drivers' own (bvh_top_config), never a caller's */
     return c;
+}
+
+uint32_t bvh_grain(uint32_t n, const bvh_config *c)
+{
+    if (!c->threads) return 0;
+    return n / BVH_SUBTREES > BVH_MIN_GRAIN ? n / BVH_SUBTREES : BVH_MIN_GRAIN;
+}
+
+bvh_config bvh_top_config(const bvh_config *c, uint32_t grain)
+{
+    bvh_config top = *c;
+    top.parallel_from = !grain ? 0 : grain > BVH_PARALLEL_BINS ? grain : BVH_PARALLEL_BINS;
+    return top;
 }
 
 int bvh_alloc(bvh_t *b, uint32_t n)
@@ -261,7 +275,7 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
     /* threads > 0: subtrees of at most `grain` primitives are deferred to
      * a second phase over threads (grain depends on n alone, so the tree
      * is the same whatever the thread count). */
-    uint32_t grain = c.threads ? (n / BVH_SUBTREES > BVH_MIN_GRAIN ? n / BVH_SUBTREES : BVH_MIN_GRAIN) : 0;
+    const uint32_t grain = bvh_grain(n, &c);
     deferred_t *deferred = c.threads ? malloc((size_t)n * sizeof *deferred) : NULL;
     if (!cent || !tasks || (c.threads && !deferred)) {
         free(owned);
@@ -274,11 +288,8 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
     b->nrefs = n;
     uint32_t next = 1, ndeferred = 0;
     tasks[0] = (task_t){0, 0, n, 0};
-    /* The top's nodes bin in parallel, the subtrees' each on its thread. */
-    bvh_config top = c;
-    top.parallel_from = grain > BVH_PARALLEL_BINS ? grain : BVH_PARALLEL_BINS;
-    if (!grain) top.parallel_from = 0;
-    c.parallel_from = 0;
+    /* The top's nodes bin in parallel, the subtrees' (c) each on its thread. */
+    const bvh_config top = bvh_top_config(&c, grain);
     topdown_loop(b, tasks, 1, &next, boxes, cent, &top, split, grain, deferred, &ndeferred);
     if (ndeferred) {
         phase2_t ph = {b, tasks, boxes, cent, &c, split, deferred};

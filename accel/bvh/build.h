@@ -39,6 +39,15 @@ typedef uint32_t (*bvh_split_fn)(uint32_t *ids, uint32_t n, box3 box, const box3
 int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg,
                       bvh_split_fn split);
 
+/* The drivers' two phases (build.c's header): grain, the size of the
+ * subtrees built in parallel (0 when c->threads is 0: one pass), from n
+ * alone; and the top phase's config, c with parallel_from set so that its
+ * nodes of more than max(grain, BVH_PARALLEL_BINS) primitives bin in
+ * chunks on the threads (c itself, as bvh_config_or_defaults leaves it,
+ * has parallel_from 0: a subtree bins on its own thread). */
+uint32_t bvh_grain(uint32_t n, const bvh_config *c);
+bvh_config bvh_top_config(const bvh_config *c, uint32_t grain);
+
 /* job(ctx, i) for every i in [0, count), each once, on up to threads
  * threads (at most BVH_MAX_THREADS; the calling thread is one of them;
  * fewer when a thread cannot be started), returning when all are done.

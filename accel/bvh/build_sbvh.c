@@ -475,13 +475,10 @@ int bvh_build_sbvh(bvh_t *b, const box3 *boxes, uint32_t n, const bvh_config *cf
     if (cap64 > UINT32_MAX / 2) cap64 = UINT32_MAX / 2;
     const uint32_t cap = (uint32_t)cap64;
     /* threads > 0: subtrees of at most grain references (n alone decides
-     * it, as in build.c) are built in parallel. */
-    const uint32_t grain = c.threads ? (n / BVH_SUBTREES > BVH_MIN_GRAIN ? n / BVH_SUBTREES : BVH_MIN_GRAIN) : 0;
-    /* The top's nodes bin in parallel, the subtrees' each on its thread. */
-    bvh_config top_cfg = c;
-    top_cfg.parallel_from = grain > BVH_PARALLEL_BINS ? grain : BVH_PARALLEL_BINS;
-    if (!grain) top_cfg.parallel_from = 0;
-    c.parallel_from = 0;
+     * it, as in build.c) are built in parallel; the top's nodes bin in
+     * parallel, the subtrees' (c) each on its thread. */
+    const uint32_t grain = bvh_grain(n, &c);
+    const bvh_config top_cfg = bvh_top_config(&c, grain);
     sbvh_builder top = {.out = b, .next = 1, .c = &top_cfg, .s = s};
     sbvh_task *stack = malloc((size_t)cap * sizeof *stack), *deferred = NULL;
     uint32_t *root_ids = malloc((size_t)n * sizeof *root_ids), *sub_cap = NULL, ndeferred = 0;

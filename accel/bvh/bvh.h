@@ -96,10 +96,10 @@ typedef struct {
                            * the subtrees below the top on that many threads (up to BVH_MAX_THREADS): the same
                            * tree for every count >= 1, whose nodes[] may hold unused zeroed nodes that no node
                            * points to */
-    uint32_t parallel_from; /* set by the drivers, not by callers (bvh_config_defaults: 0): with threads > 1, a
-                             * node of more than this many primitives bins them on the threads (the top of a
-                             * threaded build, above its parallel subtrees); the bins, and so the tree, are
-                             * the same as on one thread */
+    uint32_t parallel_from; /* set by the drivers, not by callers (bvh_config_or_defaults zeroes it): with
+                             * threads >= 1, a node of more than this many primitives bins them in fixed chunks
+                             * on the threads (the top of a threaded build, above its parallel subtrees); the
+                             * bins, and so the tree, are the same for every thread count */
 } bvh_config;
 
 #define BVH_MAX_THREADS 64 /* threads a top-down build uses at most */
@@ -108,7 +108,7 @@ typedef struct {
 #define BVH_TOPDOWN_TASK_BYTES 36
 #define BVH_SUBTREES 64    /* threads > 0: subtrees of at most n / BVH_SUBTREES primitives are built in parallel */
 #define BVH_MIN_GRAIN 1024 /* ... and of at most this many when n / BVH_SUBTREES is fewer */
-#define BVH_PARALLEL_BINS 32768 /* threads > 1: the top's nodes of more than this many (and the grain) bin in parallel */
+#define BVH_PARALLEL_BINS 32768 /* threads > 0: the top's nodes of more than this many (and the grain) bin in parallel */
 
 void bvh_config_defaults(bvh_config *cfg);
 
