@@ -16,6 +16,9 @@
  *               the counts and statistics right; avg_children within 2..W
  *   leafsize=1  the same answers check with one primitive a leaf
  *   single      one triangle, one sphere: a root with one leaf child
+ *   overflow    a box whose entry and exit distances are both +inf under
+ *               tfar = +inf is a miss on every width and ISA (the kernels'
+ *               one comparison, wide_walk.h)
  *   one point   2000 spheres with one centre and radius and 2000
  *               triangles collapsed to one point: the builder splits by
  *               count, the tree stays shallow, answers match exhaustive
@@ -280,6 +283,45 @@ static void test_single(void)
     scene_free(s);
 }
 
+/* The box kernels' one comparison (wide_walk.h: the interval's end at most
+ * FLT_MAX): a ray along x whose entry distance overflows to +inf (origin
+ * 2^60 before the triangle, direction 1e-30, the harness's largest
+ * traceable ray) and that runs parallel to y outside the box's y slab
+ * (entry and exit +inf there) meets the leaf's box with entry +inf and
+ * exit +inf under tfar = +inf. Every width and ISA must count that box a
+ * miss: one node visited, no primitive tested. */
+static void test_overflowing_entry(void)
+{
+    scene_t *s = scene_new("one triangle");
+    uint32_t a = prims_add_vertex(&s->prims, v3(0, 0, 0)), b = prims_add_vertex(&s->prims, v3(1, 0, 0)),
+             c = prims_add_vertex(&s->prims, v3(0, 1, 0));
+    prims_add_triangle(&s->prims, a, b, c);
+    finished(s);
+    for (int w = 2; w <= 8; w *= 2)
+        for (int isa = WIDE_ISA_SCALAR; isa < WIDE_ISA_COUNT; isa++) {
+            if (!wide_isa_supported((wide_isa)isa)) continue;
+            char cfg[64];
+            snprintf(cfg, sizeof cfg, "width=%d,isa=%s", w, wide_isa_names[isa]);
+            accel *x = champ_with(s, cfg);
+            accel_ctx *ctx = x->ops->context_new(x);
+            ray_t r = {v3(-0x1p60f, -5, 0), 0, v3(1e-30f, 0, 0), INFINITY, RAY_NO_LIGHT, 0};
+            CHECK(ray_traceable(&r));
+            hit_t h = hit_none(&r);
+            counters_t cnt = {0};
+            CHECK(!x->ops->intersect(x, ctx, &r, &h, &cnt));
+            CHECK_MSG(cnt.steps == 1 && cnt.prim_tests == 0, "[%s] entry +inf, exit +inf: %llu steps, %llu tests", cfg,
+                      (unsigned long long)cnt.steps, (unsigned long long)cnt.prim_tests);
+            counters_t any = {0};
+            CHECK(!x->ops->occluded(x, ctx, &r, &any));
+            CHECK_MSG(any.steps == 1 && any.prim_tests == 0, "[%s] any hit: %llu steps", cfg,
+                      (unsigned long long)any.steps);
+            x->ops->context_free(ctx);
+            x->ops->destroy(x);
+        }
+    printf("entry distance overflowing to +inf under tfar = +inf: a miss on every width and ISA\n");
+    scene_free(s);
+}
+
 static void test_one_point(void)
 {
     scene_t *s = scene_new("one point");
@@ -478,6 +520,7 @@ int main(void)
     setvbuf(stdout, NULL, _IOLBF, 0);
     test_refusals();
     test_single();
+    test_overflowing_entry();
     test_one_point();
     test_simd();
     test_memcap();

@@ -19,7 +19,8 @@
  *     describe;
  *   - robust box tests: Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013,
  *     as accel/common/slab.h applies it (far distances scaled by
- *     SLAB_FAR_SCALE), with the near and far planes chosen by the sign of
+ *     SLAB_FAR_SCALE, folded into the ray's far reciprocals: wide_walk.h),
+ *     with the near and far planes chosen by the sign of
  *     the reciprocal direction (Williams et al., JGT 10(1), 2005), so +-0
  *     direction components are right with no branch.
  *

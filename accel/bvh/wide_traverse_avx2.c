@@ -13,16 +13,15 @@ WIDE_FN unsigned box4(const wide_ray *r, const void *node, float t0, float t1, f
 {
     const float *rows = &((const wide4_node *)node)->box[0][0];
     __m128 a = _mm_set1_ps(t0), z = _mm_set1_ps(t1);
-    const __m128 scale = _mm_set1_ps(SLAB_FAR_SCALE);
     for (uint32_t ax = 0; ax < 3; ax++) {
-        const __m128 o = _mm_set1_ps(r->org[ax]), inv = _mm_set1_ps(r->inv[ax]);
+        const __m128 o = _mm_set1_ps(r->org[ax]), inv = _mm_set1_ps(r->inv[ax]),
+                     inv_far = _mm_set1_ps(r->inv_far[ax]);
         __m128 n = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + r->near[ax] * 4), o), inv);
-        __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + r->far[ax] * 4), o), inv), scale);
+        __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows + r->far[ax] * 4), o), inv_far);
         a = _mm_max_ps(n, a); /* a NaN n keeps a */
         z = _mm_min_ps(f, z);
     }
-    __m128 hit = _mm_and_ps(_mm_cmp_ps(a, z, _CMP_LE_OQ), _mm_and_ps(_mm_cmp_ps(a, _mm_set1_ps(INFINITY), _CMP_LT_OQ),
-                                                                    _mm_cmp_ps(z, _mm_set1_ps(-INFINITY), _CMP_GT_OQ)));
+    __m128 hit = _mm_cmp_ps(a, z, _CMP_LE_OQ);
     _mm_store_ps(tn, a);
     return (unsigned)_mm_movemask_ps(hit);
 }
@@ -31,17 +30,15 @@ WIDE_FN unsigned box8(const wide_ray *r, const void *node, float t0, float t1, f
 {
     const float *rows = &((const wide8_node *)node)->box[0][0];
     __m256 a = _mm256_set1_ps(t0), z = _mm256_set1_ps(t1);
-    const __m256 scale = _mm256_set1_ps(SLAB_FAR_SCALE);
     for (uint32_t ax = 0; ax < 3; ax++) {
-        const __m256 o = _mm256_set1_ps(r->org[ax]), inv = _mm256_set1_ps(r->inv[ax]);
+        const __m256 o = _mm256_set1_ps(r->org[ax]), inv = _mm256_set1_ps(r->inv[ax]),
+                     inv_far = _mm256_set1_ps(r->inv_far[ax]);
         __m256 n = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows + r->near[ax] * 8), o), inv);
-        __m256 f = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows + r->far[ax] * 8), o), inv), scale);
+        __m256 f = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows + r->far[ax] * 8), o), inv_far);
         a = _mm256_max_ps(n, a);
         z = _mm256_min_ps(f, z);
     }
-    __m256 hit = _mm256_and_ps(_mm256_cmp_ps(a, z, _CMP_LE_OQ),
-                               _mm256_and_ps(_mm256_cmp_ps(a, _mm256_set1_ps(INFINITY), _CMP_LT_OQ),
-                                             _mm256_cmp_ps(z, _mm256_set1_ps(-INFINITY), _CMP_GT_OQ)));
+    __m256 hit = _mm256_cmp_ps(a, z, _CMP_LE_OQ);
     _mm256_store_ps(tn, a);
     return (unsigned)_mm256_movemask_ps(hit);
 }

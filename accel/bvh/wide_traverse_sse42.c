@@ -23,16 +23,15 @@ WIDE_FN unsigned box4_at(const wide_ray *r, const float *rows, const uint32_t st
                          float t1, float *tn)
 {
     __m128 a = _mm_set1_ps(t0), z = _mm_set1_ps(t1);
-    const __m128 scale = _mm_set1_ps(SLAB_FAR_SCALE);
     for (uint32_t ax = 0; ax < 3; ax++) {
-        const __m128 o = _mm_set1_ps(r->org[ax]), inv = _mm_set1_ps(r->inv[ax]);
+        const __m128 o = _mm_set1_ps(r->org[ax]), inv = _mm_set1_ps(r->inv[ax]),
+                     inv_far = _mm_set1_ps(r->inv_far[ax]);
         __m128 n = _mm_mul_ps(_mm_sub_ps(row4(rows, r->near[ax], stride, off), o), inv);
-        __m128 f = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(row4(rows, r->far[ax], stride, off), o), inv), scale);
+        __m128 f = _mm_mul_ps(_mm_sub_ps(row4(rows, r->far[ax], stride, off), o), inv_far);
         a = _mm_max_ps(n, a); /* a NaN n keeps a */
         z = _mm_min_ps(f, z);
     }
-    __m128 hit = _mm_and_ps(_mm_cmple_ps(a, z), _mm_and_ps(_mm_cmplt_ps(a, _mm_set1_ps(INFINITY)),
-                                                           _mm_cmpgt_ps(z, _mm_set1_ps(-INFINITY))));
+    __m128 hit = _mm_cmple_ps(a, z);
     _mm_store_ps(tn + off, a); /* at width 2, lanes 2 and 3 of tn[8] are scratch */
     return (unsigned)_mm_movemask_ps(hit) << off;
 }

@@ -29,15 +29,23 @@
  * occluder. The stack is the caller's, wide_stack_cap() entries, which no
  * walk of its tree can overflow.
  *
- * The box test of one child is slab_clip_robust()'s arithmetic exactly
- * (accel/common/slab.h): per axis tn = (near - org) * inv, tf = (far - org)
- * * inv * SLAB_FAR_SCALE, with the near plane chosen by the sign of inv;
- * a = max(tn, a) and z = min(tf, z) as "if (tn > a) a = tn" does (a NaN
- * never wins: the SSE/AVX max and min return their second operand when
- * either is NaN); hit when a <= z, a < inf and z > -inf. So a box the exact
- * ray meets is never rejected by rounding, and the SIMD kernels give the
- * scalar one's distances bit for bit (no contraction: the build has
- * -ffp-contract=off and the kernels use no FMA intrinsics).
+ * The box test of one child is slab_clip_robust()'s (accel/common/slab.h)
+ * with the far scale folded into the ray: per axis tn = (near - org) * inv,
+ * tf = (far - org) * inv_far where inv_far = inv * SLAB_FAR_SCALE, rounded
+ * once per ray, with the near plane chosen by the sign of inv; a = max(tn,
+ * a) and z = min(tf, z) as "if (tn > a) a = tn" does (a NaN never wins: the
+ * SSE/AVX max and min return their second operand when either is NaN); hit
+ * when a <= z. The far t still carries four roundings (the difference, inv,
+ * inv_far, the product), each at most one unit 2^-24, so SLAB_FAR_SCALE
+ * = 1 + 2^-21 still covers them (Ize 2013's bound, as slab.h's), and a box
+ * the exact ray meets is never rejected by rounding. The interval enters
+ * with its start raised to at least -FLT_MAX and its end lowered to at
+ * most FLT_MAX (wide_ray_init, wide_t1): then a > -inf and z < inf, so
+ * "a <= z" alone is slab_clip's "a <= z, a < inf, z > -inf" (one
+ * comparison per slot instead of three; test_champion's overflow test).
+ * The SIMD kernels give the scalar one's distances bit for bit (no
+ * contraction: the build has -ffp-contract=off and the kernels use no FMA
+ * intrinsics).
  *
  * Counters: box_tests = child boxes tested (the used slots of every node
  * visited), steps = nodes visited plus leaves tested; prim_tests and
@@ -55,6 +63,8 @@
 /* Per-ray constants of the box kernels. */
 typedef struct {
     float org[3], inv[3];       /* origin, 1 / direction (+-inf for +-0) */
+    float inv_far[3];           /* inv * SLAB_FAR_SCALE: the far planes' robust reciprocal */
+    float t0, tfar;             /* the ray's tnear, at least -FLT_MAX, and tfar, at most FLT_MAX */
     uint32_t near[3], far[3];   /* per axis the box row of the near and far plane: 2 axis + (inv < 0) and the other */
     uint32_t oct;               /* the octant whose order the walk takes (WIDE_ORDER) */
     bool backwards;             /* and whether backwards: x < 0, the opposite octant's order */
@@ -75,6 +85,7 @@ WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray)
         uint32_t neg = inv < 0.0f;
         r->org[a] = org[a];
         r->inv[a] = inv;
+        r->inv_far[a] = inv * SLAB_FAR_SCALE;
         r->near[a] = 2 * a + neg;
         r->far[a] = 2 * a + 1 - neg;
     }
@@ -82,11 +93,18 @@ WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray)
      * as it does for the planes). */
     r->backwards = r->near[0] & 1;
     r->oct = ((r->near[1] & 1) | (r->near[2] & 1) << 1) ^ (r->backwards ? 3u : 0u);
+    r->t0 = ray->tnear > -FLT_MAX ? ray->tnear : -FLT_MAX; /* rayset.c refuses NaN tnear and tfar */
+    r->tfar = ray->tfar < FLT_MAX ? ray->tfar : FLT_MAX;
     return true;
 }
 
-/* A box kernel: the W children of node against [t0, t1]; returns the mask
- * of slots hit and writes every slot's entry distance a into tn[0 .. W). */
+/* The end of the box kernels' interval: the closest hit so far (or tfar),
+ * at most FLT_MAX (see the box test above). */
+WIDE_FN float wide_t1(float t) { return t < FLT_MAX ? t : FLT_MAX; }
+
+/* A box kernel: the W children of node against [t0, t1] (t0 >= -FLT_MAX,
+ * t1 <= FLT_MAX); returns the mask of slots hit and writes every slot's
+ * entry distance a into tn[0 .. W). */
 typedef unsigned (*wide_box_fn)(const wide_ray *r, const void *node, float t0, float t1, float *tn);
 
 /* The reference kernel, one slot at a time (isa=scalar). */
@@ -98,12 +116,12 @@ WIDE_FN unsigned wide_box_scalar(const wide_ray *r, const float *rows, const uin
         float a = t0, z = t1;
         for (uint32_t ax = 0; ax < 3; ax++) {
             float n = (rows[r->near[ax] * W + k] - r->org[ax]) * r->inv[ax];
-            float f = (rows[r->far[ax] * W + k] - r->org[ax]) * r->inv[ax] * SLAB_FAR_SCALE;
+            float f = (rows[r->far[ax] * W + k] - r->org[ax]) * r->inv_far[ax];
             if (n > a) a = n;
             if (f < z) z = f;
         }
         tn[k] = a;
-        if (a <= z && a < INFINITY && z > -INFINITY) mask |= 1u << k;
+        if (a <= z) mask |= 1u << k;
     }
     return mask;
 }
@@ -184,7 +202,7 @@ WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *
         nsteps++;
         nbox += nch;
         float tn[8] __attribute__((aligned(32)));
-        unsigned mask = box(&r, node, ray->tnear, shadow ? ray->tfar : hit->t, tn);
+        unsigned mask = box(&r, node, r.t0, shadow ? r.tfar : wide_t1(hit->t), tn);
 
         if (octant) {
             /* order=octant: one interior child hit is visited next; more,
