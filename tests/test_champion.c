@@ -248,13 +248,19 @@ static void against_exhaustive(scene_t *s, const char *cfg, int res, bool same_p
     ex->ops->destroy(ex);
 }
 
-static void test_single(void)
+/* The triangle (0,0,0), (1,0,0), (0,1,0) alone. */
+static scene_t *one_triangle(void)
 {
     scene_t *s = scene_new("one triangle");
     uint32_t a = prims_add_vertex(&s->prims, v3(0, 0, 0)), b = prims_add_vertex(&s->prims, v3(1, 0, 0)),
              c = prims_add_vertex(&s->prims, v3(0, 1, 0));
     prims_add_triangle(&s->prims, a, b, c);
-    finished(s);
+    return finished(s);
+}
+
+static void test_single(void)
+{
+    scene_t *s = one_triangle();
     for (int w = 2; w <= 8; w *= 2) {
         char cfg[64];
         snprintf(cfg, sizeof cfg, "width=%d", w);
@@ -285,18 +291,14 @@ static void test_single(void)
 
 /* The box kernels' one comparison (wide_walk.h: the interval's end at most
  * FLT_MAX): a ray along x whose entry distance overflows to +inf (origin
- * 2^60 before the triangle, direction 1e-30, the harness's largest
- * traceable ray) and that runs parallel to y outside the box's y slab
- * (entry and exit +inf there) meets the leaf's box with entry +inf and
- * exit +inf under tfar = +inf. Every width and ISA must count that box a
+ * 2^60 before the triangle, RAY_COORD_MAX, the farthest a traceable ray
+ * may start; direction 1e-30) and that runs parallel to y outside the
+ * box's y slab (entry and exit +inf there) meets the leaf's box with entry
+ * +inf and exit +inf under tfar = +inf. Every width and ISA must count that box a
  * miss: one node visited, no primitive tested. */
 static void test_overflowing_entry(void)
 {
-    scene_t *s = scene_new("one triangle");
-    uint32_t a = prims_add_vertex(&s->prims, v3(0, 0, 0)), b = prims_add_vertex(&s->prims, v3(1, 0, 0)),
-             c = prims_add_vertex(&s->prims, v3(0, 1, 0));
-    prims_add_triangle(&s->prims, a, b, c);
-    finished(s);
+    scene_t *s = one_triangle();
     for (int w = 2; w <= 8; w *= 2)
         for (int isa = WIDE_ISA_SCALAR; isa < WIDE_ISA_COUNT; isa++) {
             if (!wide_isa_supported((wide_isa)isa)) continue;
