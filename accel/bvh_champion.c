@@ -4,6 +4,8 @@
  * AVX2 or AVX-512 kernels chosen at run time.
  *
  * Papers:
+ *   - tree=embree: Embree's own builder (Wald et al., ACM TOG 33(4), 2014,
+ *     section 4.3) through its rtcBuildBVH API, for diagnosis only;
  *   - build: the kit's binned SAH builder (accel/bvh/build_sah.c): the
  *     surface area heuristic of J. D. MacDonald, K. S. Booth, "Heuristics
  *     for Ray Tracing Using Space Subdivision", The Visual Computer 6(3),
@@ -118,6 +120,43 @@
  *                 2-5 % after, 1.00 in geometric mean over 9 cells (within
  *                 the noise). Distance stays the default. Any-hit queries
  *                 take slot order either way.
+ *   minleaf=0     a node of at most this many primitives is always a leaf,
+ *                 never split (the kit's min_leaf; Embree's minLeafSize,
+ *                 which is 4 for its BVH8Triangle4 build), 0..32.
+ *   bigleaf=0     collapse (accel/bvh/collapse.c, wide_merge): an interior
+ *                 binary node that would become a wide node becomes one
+ *                 leaf of its subtree's primitives instead when they are at
+ *                 most bigleaf and the SAH prices that leaf no higher than
+ *                 the node's split (travcost the node visit, whole packets
+ *                 of 4 the tests). Embree decides its leaves only there, at
+ *                 the children of a wide node after it has split the
+ *                 largest of them until the node is full (kernels/builders/
+ *                 bvh_builder_sah.h), with leaves of up to 7 blocks of 4,
+ *                 28; 0 (off)..255.
+ *   slots=split   a node's slot order: split (the binary tree's) | size
+ *                 (most primitives below first, stable: Embree sorts a
+ *                 node's children so "for faster shadow ray traversal"; an
+ *                 any-hit walk takes slots in order, a closest-hit one
+ *                 where entry distances tie).
+ *                 Embree's rules together are minleaf=4, bigleaf=28,
+ *                 travcost=4, slots=size (Embree's SAH counts blocks of 4
+ *                 and a node visit as one block: 4 triangle tests). On the
+ *                 bunny they make Embree's tree to within 0.2 % in nodes
+ *                 and leaves (4766 and 19518 against 4772 and 19480, the
+ *                 same tests and box tests per ray; tests/test_champion.c
+ *                 holds them within 2 %), but not on Sponza: the same node
+ *                 and leaf counts, 11-95 % more triangle tests per ray
+ *                 than Embree's tree (cause not found). Off by default:
+ *                 measured below (README, issue 13's notes).
+ *   tree=own      own: the builds above | embree: a diagnostic, Embree's
+ *                 own builder (rtcBuildBVH with its BVH8Triangle4 scene
+ *                 build's settings, accel/bvh/wide_embree.c) makes the
+ *                 8-wide tree and our kernels trace it, so that a gap
+ *                 against Embree splits into tree and kernel. width=8 and
+ *                 split=object only (refused otherwise); the bins,
+ *                 leafsize, minleaf, bigleaf, slots and travcost settings
+ *                 do not apply; its build time is Embree's builder's plus
+ *                 the copy into our nodes.
  *   memcap=4096   MiB: refuse a build whose scratch and nodes would pass it
  *                 (checked before the binary build over its estimate, and
  *                 before the collapse over the exact wide node count).
@@ -166,6 +205,10 @@ static const accel_param champ_params[] = {
     {"smallbins", "on", "split=object: on: a node of n primitives binned into min(bins, 4 + n/20) slots (Embree's rule) | "
                         "off: bins (split=sbvh: always off)"},
     {"leafsize", "4", "largest leaf the SAH builder may make, 1..32"},
+    {"minleaf", "0", "a node of at most this many primitives is always a leaf (Embree's minLeafSize), 0..32"},
+    {"bigleaf", "0", "collapse: an interior node of at most this many primitives becomes one leaf when the SAH prices it "
+                     "no higher than its split (Embree's leaves at a wide node's children), 0 (off)..255"},
+    {"slots", "split", "slot order: split (the binary tree's) | size (most primitives first, as Embree orders them)"},
     {"travcost", "2", "SAH: cost of a node visit over one primitive test, 0.1..100 (bigger: larger leaves)"},
     {"split", "object", "object: binned SAH object splits | sbvh: with spatial splits (Stich et al. 2009)"},
     {"alpha", "1e-5", "sbvh: try a spatial split when the object split's overlap passes alpha x the root's area, 0..1"},
@@ -174,6 +217,8 @@ static const accel_param champ_params[] = {
                           "octant (Ylitie et al. 2017)"},
     {"packets", "on", "on: leaves of triangles only tested as prims/ triangle packets (4 in SoA) | off: through refs"},
     {"isa", "auto", "box kernels: auto (the best this CPU has) | scalar | sse42 | avx2 | avx512"},
+    {"tree", "own", "own: the builds above | embree: Embree's own builder's 8-wide tree (rtcBuildBVH), our kernels over "
+                    "it (a diagnostic: width=8, split=object only)"},
     {"memcap", "4096", "MiB: refuse a build whose scratch and nodes exceed it"},
     {NULL, NULL, NULL},
 };
@@ -249,21 +294,26 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
 {
     static const char *const widths[] = {"2", "4", "8", NULL}, *const onoff[] = {"off", "on", NULL};
     static const char *const splits[] = {"object", "sbvh", NULL}, *const binnings[] = {"split", "clip", NULL};
-    static const char *const orders[] = {"distance", "octant", NULL};
-    int wsel, packets, sbvh, exact_bins, octant, small_bins;
-    long bins, leafsize, memcap;
+    static const char *const orders[] = {"distance", "octant", NULL}, *const trees[] = {"own", "embree", NULL};
+    static const char *const slot_orders[] = {"split", "size", NULL};
+    int by_size, embree_tree, wsel, packets, sbvh, exact_bins, octant, small_bins;
+    long bins, leafsize, memcap, minleaf, bigleaf;
     double travcost, alpha;
     wide_isa isa;
     if (params_get_choice(params, "width", widths, &wsel, err, errlen) ||
         params_get_long(params, "bins", 2, 256, &bins, err, errlen) ||
         params_get_choice(params, "smallbins", onoff, &small_bins, err, errlen) ||
         params_get_long(params, "leafsize", 1, 32, &leafsize, err, errlen) ||
+        params_get_long(params, "minleaf", 0, 32, &minleaf, err, errlen) ||
+        params_get_long(params, "bigleaf", 0, WIDE_MAX_LEAF, &bigleaf, err, errlen) ||
+        params_get_choice(params, "slots", slot_orders, &by_size, err, errlen) ||
         params_get_double(params, "travcost", 0.1, 100.0, &travcost, err, errlen) ||
         params_get_choice(params, "split", splits, &sbvh, err, errlen) ||
         params_get_double(params, "alpha", 0.0, 1.0, &alpha, err, errlen) ||
         params_get_choice(params, "binning", binnings, &exact_bins, err, errlen) ||
         params_get_choice(params, "order", orders, &octant, err, errlen) ||
         params_get_choice(params, "packets", onoff, &packets, err, errlen) || parse_isa(params, &isa, err, errlen) ||
+        params_get_choice(params, "tree", trees, &embree_tree, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
         return NULL;
     const uint32_t width = 2u << wsel;
@@ -293,6 +343,24 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
 
     /* The kit's binary tree over the primitives' boxes. */
     for (uint32_t id = 0; id < n; id++) boxes[id] = prim_bounds(p, id);
+    if (embree_tree) {
+        if (wsel != 2 || sbvh) {
+            snprintf(err, errlen, "bvh tree=embree: Embree's tree is 8 wide with object splits (width=8, split=object)");
+            goto fail;
+        }
+        /* Embree's build primitives (32 bytes) and nodes and leaves (at
+         * most one of each per primitive, 272 and 12 bytes), then our
+         * nodes (at most one per primitive) and refs. */
+        if (memcap_exceeded(memcap_mul(n, 32 + 272 + 12 + WIDE_NODE_BYTES(8) + 4), (uint64_t)memcap, err, errlen,
+                            "bvh tree=embree: Embree's build over %u primitives", n))
+            goto fail;
+        if (wide_build_embree(&t->w, boxes, n, params->threads > 0 ? (uint32_t)params->threads : 1, err, errlen))
+            goto fail;
+        free(boxes);
+        boxes = NULL;
+        t->w.octant_order = octant;
+        goto pack;
+    }
     bvh_config cfg;
     bvh_config_defaults(&cfg);
     cfg.bins = (uint32_t)bins;
@@ -302,6 +370,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
      * dominate it). */
     cfg.small_bins = small_bins && !sbvh;
     cfg.max_leaf = (uint32_t)leafsize;
+    cfg.min_leaf = (uint32_t)minleaf;
     cfg.cost_traversal = (float)travcost;
     /* A scene of triangles only: a leaf costs whole packets (build_sah.c).
      * On the bunny: 67.5 bytes a triangle instead of 89.3, leaves of 3.7
@@ -326,16 +395,18 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     boxes = NULL;
 
     /* Collapsed to width, its exact size checked first. */
-    uint32_t wide_nodes = wide_count_nodes(&bin, width);
+    const wide_merge merge = {(uint32_t)bigleaf, (float)travcost, cfg.leaf_block, by_size};
+    uint32_t wide_nodes = wide_count_nodes(&bin, width, &merge);
     if (memcap_exceeded(collapse_bytes(&bin, wide_nodes, width), (uint64_t)memcap, err, errlen,
                         "bvh: %u BVH%u nodes over %u primitives with the binary tree they come from", wide_nodes,
                         width, n))
         goto fail;
-    if (wide_collapse(&t->w, &bin, width)) goto oom;
+    if (wide_collapse(&t->w, &bin, width, &merge)) goto oom;
     t->w.spatial = sbvh;
     t->w.octant_order = octant;
     bvh_free(&bin);
 
+pack:
     /* The all-triangle leaves packed, their size checked first. */
     if (packets) {
         uint64_t npk = wide_count_packets(&t->w, p);
@@ -463,7 +534,7 @@ const wide_bvh *bvh_champion_tree(const accel *a, wide_isa *isa)
 /* Every width with every instruction set this CPU has (the conformance
  * suite cannot skip a variant that this machine refuses, so the list is
  * made at start-up from the CPU), and the leaf and bin settings. */
-static const char *champ_variants[2 * WIDE_ISA_COUNT + 12];
+static const char *champ_variants[2 * WIDE_ISA_COUNT + 14];
 __attribute__((constructor)) static void champ_fill_variants(void)
 {
     static const char *const all[2][WIDE_ISA_COUNT] = {
@@ -482,6 +553,8 @@ __attribute__((constructor)) static void champ_fill_variants(void)
     champ_variants[n++] = "smallbins=off";
     champ_variants[n++] = "order=octant";
     champ_variants[n++] = "order=octant,width=4,isa=scalar";
+    champ_variants[n++] = "minleaf=4,bigleaf=28,travcost=4,slots=size";
+    champ_variants[n++] = "tree=embree";
     champ_variants[n++] = "split=sbvh";
     champ_variants[n++] = "split=sbvh,alpha=0,width=4,leafsize=1";
     champ_variants[n++] = "split=sbvh,binning=clip,width=2";

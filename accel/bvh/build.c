@@ -26,6 +26,7 @@
 void bvh_config_defaults(bvh_config *cfg)
 {
     cfg->max_leaf = 4;
+    cfg->min_leaf = 0;
     cfg->bins = 16;
     cfg->small_bins = false;
     cfg->cost_traversal = 1.0f;

@@ -198,6 +198,7 @@ double bvh_sah_leaf_cost(uint32_t n, box3 box, const bvh_config *cfg)
 static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
                           const bvh_config *cfg, bvh_split_sides *sides)
 {
+    if (n <= cfg->min_leaf && n <= cfg->max_leaf) return 0;
     bvh_sah_choice ch = bvh_sah_best(ids, n, box, boxes, centroids, cfg);
     if (ch.axis < 0) return 0; /* every centroid in one slot: the driver splits by count */
     if (n <= cfg->max_leaf && bvh_sah_leaf_cost(n, box, cfg) <= ch.cost) return 0;

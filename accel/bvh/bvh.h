@@ -83,6 +83,8 @@ typedef struct {
 /* Build settings; NULL everywhere means bvh_config_defaults(). */
 typedef struct {
     uint32_t max_leaf;    /* top-down: a node with more primitives is always split (default 4) */
+    uint32_t min_leaf;    /* binned SAH: a node of at most this many primitives is always a leaf, never split
+                           * (Embree's minLeafSize; default 0: the SAH decides every node up to max_leaf) */
     uint32_t bins;        /* binned SAH: bins per axis (default 16, 2..256) */
     bool small_bins;      /* binned SAH: a node of n primitives binned into min(bins, 4 + n / 20) slots, Embree's
                            * rule (its BinMapping), which spares small nodes the set-up and sweeps of every bin

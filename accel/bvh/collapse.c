@@ -47,26 +47,91 @@ static uint32_t open_children(const bvh_t *b, uint32_t bi, uint32_t width, uint3
     return n;
 }
 
-uint32_t wide_count_nodes(const bvh_t *b, uint32_t width)
+/* Big leaves (wide_merge): per binary node, the run of refs its subtree's
+ * leaves hold when they are one contiguous run (count 0 when not), so that
+ * an interior node can become one leaf of them. */
+typedef struct {
+    uint32_t first, count; /* the run, count 0 when the subtree's refs are not one run */
+    uint32_t prims;        /* refs below, in one run or not */
+} span_t;
+
+/* The spans of every node reachable from the root: a pre-order list, then
+ * its reverse (children before parents), with no recursion. NULL out of
+ * memory. */
+static span_t *subtree_spans(const bvh_t *b)
 {
-    if (!b->nnodes) return 0;
-    /* Pending binary nodes that become wide nodes: at most the interior
-     * nodes (plus the root). */
-    uint32_t *pending = malloc(((size_t)b->nnodes + 1) * sizeof *pending), np = 0, count = 0;
-    if (!pending) return UINT32_MAX; /* the caller's cap check then refuses */
-    pending[np++] = 0;
-    while (np) {
-        uint32_t bi = pending[--np], list[8];
-        count++;
-        uint32_t n = open_children(b, bi, width, list);
-        for (uint32_t k = 0; k < n; k++)
-            if (!b->nodes[list[k]].count) pending[np++] = list[k];
+    const bvh_node *nodes = b->nodes;
+    span_t *span = calloc(b->nnodes, sizeof *span);
+    uint32_t *order = malloc((size_t)b->nnodes * sizeof *order), *stack = malloc(((size_t)b->nnodes + 1) * sizeof *stack);
+    if (!span || !order || !stack) {
+        free(span), free(order), free(stack);
+        return NULL;
     }
-    free(pending);
-    return count;
+    uint32_t n = 0, sp = 0;
+    stack[sp++] = 0;
+    while (sp) {
+        uint32_t i = stack[--sp];
+        order[n++] = i;
+        if (!nodes[i].count) stack[sp++] = nodes[i].index, stack[sp++] = nodes[i].index + 1;
+    }
+    while (n--) {
+        const bvh_node *nd = &nodes[order[n]];
+        if (nd->count) {
+            span[order[n]] = (span_t){nd->index, nd->count, nd->count};
+            continue;
+        }
+        span_t l = span[nd->index], r = span[nd->index + 1];
+        span[order[n]].prims = l.prims + r.prims;
+        if (l.count && r.count && l.first + l.count == r.first)
+            span[order[n]].first = l.first, span[order[n]].count = l.count + r.count;
+    }
+    free(order);
+    free(stack);
+    return span;
 }
 
-static void set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t child, uint32_t count)
+/* n primitives as a leaf's tests pay for them: whole blocks. */
+static double merge_blocks(uint32_t n, uint32_t block) { return (double)((n + block - 1) / block * block); }
+
+/* Whether interior binary node bi becomes one leaf of its subtree's refs:
+ * at most m->max_leaf of them in one run, and the SAH's leaf cost no more
+ * than its split's, ct A(bi) + ci (N(L) A(L) + N(R) A(R)) against ci N A(bi)
+ * (counts in whole blocks). */
+static bool merges(const bvh_t *b, const span_t *span, const wide_merge *m, uint32_t bi)
+{
+    if (!span || !m->max_leaf || b->nodes[bi].count || !span[bi].count || span[bi].count > m->max_leaf) return false;
+    const bvh_node *nd = &b->nodes[bi], *l = &b->nodes[nd->index], *r = l + 1;
+    const uint32_t blk = m->leaf_block ? m->leaf_block : 1;
+    double leaf = merge_blocks(span[bi].count, blk) * box_area(nd->box);
+    double split = m->cost_traversal * box_area(nd->box) + merge_blocks(span[nd->index].count, blk) * box_area(l->box) +
+                   merge_blocks(span[nd->index + 1].count, blk) * box_area(r->box);
+    return leaf <= split;
+}
+
+/* A slot's child as the wide tree holds it: its node (interior), or its
+ * leaf's run of refs. */
+typedef struct {
+    bool leaf;
+    uint32_t first, count;
+} slot_t;
+
+static slot_t slot_of(const bvh_t *b, const span_t *span, const wide_merge *m, uint32_t bi)
+{
+    const bvh_node *nd = &b->nodes[bi];
+    if (nd->count) return (slot_t){true, nd->index, nd->count};
+    if (merges(b, span, m, bi)) return (slot_t){true, span[bi].first, span[bi].count};
+    return (slot_t){false, 0, 0};
+}
+
+static int collapse(wide_bvh *w, const bvh_t *b, uint32_t width, const wide_merge *m, uint32_t *total);
+
+uint32_t wide_count_nodes(const bvh_t *b, uint32_t width, const wide_merge *m)
+{
+    uint32_t total = 0;
+    return collapse(NULL, b, width, m, &total) ? UINT32_MAX : total;
+}
+
+void wide_set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t child, uint32_t count)
 {
     const uint32_t W = w->width;
     char *node = (char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(W);
@@ -84,7 +149,7 @@ static void set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t ch
 /* Node ni's slot orders per octant (wide.h): the n used slots by the
  * centres of their boxes projected on the octant's diagonal, ascending,
  * ties by slot (an insertion sort: stable), then the unused slots. */
-static void set_orders(wide_bvh *w, uint32_t ni, uint32_t n)
+void wide_set_orders(wide_bvh *w, uint32_t ni, uint32_t n)
 {
     const uint32_t W = w->width;
     char *node = (char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(W), *orders = node + WIDE_ORDER_OFFSET(W);
@@ -105,49 +170,83 @@ static void set_orders(wide_bvh *w, uint32_t ni, uint32_t n)
     }
 }
 
-int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width)
+/* The collapse, or with w NULL only its node count (*total). The root's
+ * binary node is a wide node's source unless it is a leaf or merges: then
+ * the root holds it as one leaf child. */
+static int collapse(wide_bvh *w, const bvh_t *b, uint32_t width, const wide_merge *m, uint32_t *total)
 {
-    memset(w, 0, sizeof *w);
-    w->width = width;
+    *total = 0;
     if (!b->nnodes) return 0;
-    uint32_t total = wide_count_nodes(b, width);
-    size_t bytes = (size_t)total * wide_node_bytes(width);
-    w->nodes = aligned_alloc(64, bytes);
-    /* (binary node, wide node, depth) triples pending */
-    uint32_t *pending = malloc(3 * ((size_t)b->nnodes + 1) * sizeof *pending), np = 0;
-    if (total == UINT32_MAX || !w->nodes || !pending) {
-        free(pending);
-        free(w->nodes);
-        memset(w, 0, sizeof *w);
+    const bool need_span = m && (m->max_leaf || m->by_size);
+    span_t *span = need_span ? subtree_spans(b) : NULL;
+    /* (binary node, wide node, depth) triples pending: at most one per
+     * interior binary node, plus the root. */
+    uint32_t *pending = malloc(3 * ((size_t)b->nnodes + 1) * sizeof *pending), np = 0, nnodes = 1;
+    if ((need_span && !span) || !pending) {
+        free(span), free(pending);
         return -1;
     }
-    memset(w->nodes, 0, bytes);
-    w->nnodes = 1;
     pending[np++] = 0, pending[np++] = 0, pending[np++] = 0;
     while (np) {
         uint32_t depth = pending[--np], ni = pending[--np], bi = pending[--np], list[8];
-        uint32_t n = open_children(b, bi, width, list);
-        for (uint32_t k = 0; k < width; k++) {
-            if (k >= n) {
-                set_slot(w, ni, k, box_empty(), WIDE_EMPTY, 0);
-                continue;
+        /* A root that is a leaf or merges is its wide root's one child. */
+        uint32_t n = ni == 0 && slot_of(b, span, m, 0).leaf ? (list[0] = 0, 1) : open_children(b, bi, width, list);
+        /* Largest subtree first (stable), as Embree orders a node's
+         * children "for faster shadow ray traversal": an any-hit walk takes
+         * them in slot order, and a closest-hit walk where entry distances
+         * tie. */
+        for (uint32_t k = 1; span && m->by_size && k < n; k++)
+            for (uint32_t j = k; j > 0 && span[list[j - 1]].prims < span[list[j]].prims; j--) {
+                uint32_t tmp = list[j];
+                list[j] = list[j - 1], list[j - 1] = tmp;
             }
-            const bvh_node *c = &b->nodes[list[k]];
-            if (c->count) {
-                set_slot(w, ni, k, c->box, WIDE_LEAF | c->index, c->count);
+        for (uint32_t k = 0; w && k < width; k++) {
+            if (k >= n) wide_set_slot(w, ni, k, box_empty(), WIDE_EMPTY, 0);
+        }
+        for (uint32_t k = 0; k < n; k++) {
+            const box3 box = b->nodes[list[k]].box;
+            slot_t s = slot_of(b, span, m, list[k]);
+            if (s.leaf) {
+                if (!w) continue;
+                wide_set_slot(w, ni, k, box, WIDE_LEAF | s.first, s.count);
                 w->nleaves++;
                 if (depth + 1 > w->max_depth) w->max_depth = depth + 1;
                 continue;
             }
-            uint32_t child = w->nnodes++;
-            set_slot(w, ni, k, c->box, child, 0);
+            uint32_t child = nnodes++;
+            if (w) wide_set_slot(w, ni, k, box, child, 0);
             pending[np++] = list[k], pending[np++] = child, pending[np++] = depth + 1;
         }
+        if (!w) continue;
         WIDE_NCHILDREN((char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(width), width) = (uint8_t)n;
-        set_orders(w, ni, n);
+        wide_set_orders(w, ni, n);
         w->nchildren += n;
     }
     free(pending);
+    free(span);
+    *total = nnodes;
+    return 0;
+}
+
+int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m)
+{
+    memset(w, 0, sizeof *w);
+    w->width = width;
+    if (!b->nnodes) return 0;
+    uint32_t total = wide_count_nodes(b, width, m);
+    size_t bytes = (size_t)total * wide_node_bytes(width);
+    w->nodes = total == UINT32_MAX ? NULL : aligned_alloc(64, bytes);
+    if (!w->nodes) {
+        memset(w, 0, sizeof *w);
+        return -1;
+    }
+    memset(w->nodes, 0, bytes);
+    w->nnodes = total;
+    if (collapse(w, b, width, m, &total)) {
+        free(w->nodes);
+        memset(w, 0, sizeof *w);
+        return -1;
+    }
     w->refs = b->refs;
     w->nrefs = b->nrefs;
     b->refs = NULL;

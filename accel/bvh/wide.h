@@ -1,6 +1,7 @@
 /* wide.h: the wide BVH of the `bvh` accelerator (accel/bvh_champion.c):
  * node layouts for 4 and 8 children, the collapse from the kit's binary
- * tree (collapse.c), the traversal kernels per instruction set
+ * tree (collapse.c), Embree's own 8-wide tree copied in for `tree=embree`
+ * (wide_embree.c), the traversal kernels per instruction set
  * (wide_traverse_*.c on the one walk of wide_walk.h) and their dispatch
  * (wide_isa.c).
  *
@@ -186,9 +187,26 @@ typedef struct {
                          * of it that the leaf stands for (set by the caller after wide_collapse) */
 } wide_bvh;
 
-/* Wide nodes the collapse of b to width makes (so a caller can check a
- * memory cap before wide_collapse allocates them). */
-uint32_t wide_count_nodes(const bvh_t *b, uint32_t width);
+/* Big leaves in the collapse (Embree's rule): an interior binary node that
+ * would become a wide node becomes one leaf of its subtree's primitives
+ * instead when they are at most max_leaf (0: never) and the SAH prices that
+ * leaf no higher than the node's split, ct A + ci (N(L) A(L) + N(R) A(R))
+ * against ci N A, counts in whole leaf_block blocks (ci = 1). The binary
+ * builder decides its leaves locally; Embree's decides them only at the
+ * children of a wide node, after splitting the largest of them until the
+ * node is full (kernels/builders/bvh_builder_sah.h), so its leaves are
+ * larger (up to 7 blocks of 4) and its nodes fuller. */
+typedef struct {
+    uint32_t max_leaf;
+    float cost_traversal;
+    uint32_t leaf_block;
+    bool by_size; /* slots ordered by primitives below, most first (stable) */
+} wide_merge;
+
+/* Wide nodes the collapse of b to width makes with merge rule m (NULL:
+ * none), so that a caller can check a memory cap before wide_collapse
+ * allocates them; UINT32_MAX out of memory. */
+uint32_t wide_count_nodes(const bvh_t *b, uint32_t width, const wide_merge *m);
 /* Collapse the binary tree b to width 2, 4 or 8 (2: the binary tree's
  * own nodes, re-laid): each wide node starts from
  * the two children of a binary interior node and repeatedly replaces the
@@ -196,8 +214,16 @@ uint32_t wide_count_nodes(const bvh_t *b, uint32_t width);
  * until it has width of them or all are leaves (ties: the first in slot
  * order). Takes over b's refs (b->refs becomes NULL); b's nodes are only
  * read. 0, or -1 out of memory (w empty, b unchanged). */
-int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width);
+int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m);
 void wide_free(wide_bvh *w);
+/* Slot k of node ni: its box, child word and leaf count (0 interior). */
+void wide_set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t child, uint32_t count);
+/* Node ni's slot orders per octant (WIDE_ORDER) from its n used slots' boxes. */
+void wide_set_orders(wide_bvh *w, uint32_t ni, uint32_t n);
+/* tree=embree: the 8-wide tree Embree's own builder makes over boxes
+ * (rtcBuildBVH with the settings of its BVH8Triangle4 scene builder,
+ * wide_embree.c), on that many threads. 0, or -1 with the reason in err. */
+int wide_build_embree(wide_bvh *w, const box3 *boxes, uint32_t n, uint32_t threads, char *err, size_t errlen);
 /* Packets wide_pack_leaves would make: ceil(count / 4) for every leaf whose
  * primitives are all triangles. */
 uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p);
