@@ -88,9 +88,11 @@
  *   packets=on    on: every leaf whose primitives are all triangles keeps
  *                 them as prims/ triangle packets (prim_tri_pack: 4
  *                 triangles' corners in SoA, 160 bytes) tested by
- *                 prim_intersect_tris / prim_occluded_tris, which answer
- *                 and count exactly as prim_intersect_leaf does over the
- *                 same ids | off: every leaf through its refs.
+ *                 prim_intersect_tris / prim_occluded_tris's bodies
+ *                 (prims/tri_packet_test.h) inlined into the walk with the
+ *                 ray's shear set up once per ray, which answer and count
+ *                 exactly as prim_intersect_leaf does over the same ids |
+ *                 off: every leaf through its refs.
  *   isa=auto      box kernels: auto (the best this CPU has: avx512 if it
  *                 has AVX-512F and VL, else avx2 with AVX2 and FMA, else
  *                 sse42, else scalar) | scalar (the reference, plain C) |
@@ -177,7 +179,7 @@
  * Counters (accel.h): box_tests = child boxes tested (the used slots of
  * every node visited; unused slots hold empty boxes that the SIMD kernels
  * test for free and nobody counts); steps = nodes visited plus leaves
- * tested; prim_tests and prim_hits by prims/ (one prim_*_tris or
+ * tested; prim_tests and prim_hits by prims/ (its packet test or one
  * prim_*_leaf call a leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
  * refs_per_prim, avg_children (used slots per node).
  *

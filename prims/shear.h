@@ -61,16 +61,19 @@ static inline bool ray_shear(vec3 dir, shear_t *s)
     s->kx = (s->kz + 1) % 3;
     s->ky = (s->kx + 1) % 3;
     float dz = v3_get(dir, s->kz);
-    if (!(dz != 0.0f) || !v3_finite(dir)) return false;
     if (dz < 0.0f) {
         int tmp = s->kx;
         s->kx = s->ky;
         s->ky = tmp;
     }
+    /* Every field written even when the ray is refused (a division by 0
+     * or of NaN is then harmless), so that a caller may keep s beside the
+     * answer (accel/bvh/wide_walk.h) without the compiler seeing fields
+     * that might be unset. */
     s->sx = v3_get(dir, s->kx) / dz;
     s->sy = v3_get(dir, s->ky) / dz;
     s->sz = 1.0f / dz;
-    return true;
+    return dz != 0.0f && v3_finite(dir);
 }
 
 /* Shear: translate to the ray origin and shear. Every primitive that

@@ -229,8 +229,9 @@ int wide_build_embree(wide_bvh *w, const box3 *boxes, uint32_t n, uint32_t threa
 uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p);
 /* Copy every all-triangle leaf's triangles into packets (prims.h
  * prim_tri_pack) and point its slot at them (WIDE_PACKED); the walk then
- * tests them with prim_intersect_tris / prim_occluded_tris, which answer
- * and count as the leaf tests over refs do. Other leaves keep their refs.
+ * tests them with prims/tri_packet_test.h's bodies inlined (those of
+ * prim_intersect_tris / prim_occluded_tris), which answer and count as the
+ * leaf tests over refs do. Other leaves keep their refs.
  * 0, or -1 out of memory (w unchanged). */
 int wide_pack_leaves(wide_bvh *w, const prims_t *p);
 size_t wide_node_bytes(uint32_t width);
