@@ -113,6 +113,15 @@ TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk,
 }
 #endif
 
+/* A ray ray_shear refused: no triangle can be hit; each is still a test,
+ * as prim_intersect counts it. */
+TRI_PACKET_FN bool tripk_unsheared(const prim_tri_packet *pk, uint32_t npk, counters_t *c, const bool counting)
+{
+    if (counting)
+        for (uint32_t k = 0; k < npk; k++) c->prim_tests += tripk_lanes(&pk[k]);
+    return false;
+}
+
 /* The packets pk[0 .. npk) against ray, whose shear s is set up (sheared:
  * ray_shear's answer; false: no triangle can be hit, each is still a test,
  * as prim_intersect counts it). */
@@ -120,12 +129,7 @@ TRI_PACKET_FN bool tripk_intersect(const shear_t *sp, bool sheared, const prim_t
                                   const ray_t *ray, hit_t *hit, counters_t *c, const bool counting)
 {
     bool found = false;
-    if (!sheared) {
-        /* No triangle can be hit; each is still a test, as prim_intersect counts it. */
-        if (counting)
-            for (uint32_t k = 0; k < npk; k++) c->prim_tests += tripk_lanes(&pk[k]);
-        return false;
-    }
+    if (!sheared) return tripk_unsheared(pk, npk, c, counting);
     const shear_t s = *sp;
     for (uint32_t k = 0; k < npk; k++) {
         uint32_t n = tripk_lanes(&pk[k]);
@@ -149,11 +153,7 @@ TRI_PACKET_FN bool tripk_intersect(const shear_t *sp, bool sheared, const prim_t
 TRI_PACKET_FN bool tripk_occluded(const shear_t *sp, bool sheared, const prim_tri_packet *pk, uint32_t npk,
                                  const ray_t *ray, counters_t *c, const bool counting)
 {
-    if (!sheared) {
-        if (counting)
-            for (uint32_t k = 0; k < npk; k++) c->prim_tests += tripk_lanes(&pk[k]);
-        return false;
-    }
+    if (!sheared) return tripk_unsheared(pk, npk, c, counting);
     const shear_t s = *sp;
     for (uint32_t k = 0; k < npk; k++) {
         uint32_t n = tripk_lanes(&pk[k]);
