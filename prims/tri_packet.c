@@ -46,26 +46,26 @@ bool prim_intersect_tris(const prim_tri_packet *pk, uint32_t npk, const ray_t *r
 {
     shear_t s;
     bool sheared = ray_shear(ray->dir, &s);
-    return tripk_intersect(&s, sheared, pk, npk, ray, hit, c, true);
+    return tripk_intersect(&s, sheared, pk, tripk_count(pk, npk), ray, hit, c, true);
 }
 
 bool prim_intersect_tris_fast(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray, hit_t *hit)
 {
     shear_t s;
     bool sheared = ray_shear(ray->dir, &s);
-    return tripk_intersect(&s, sheared, pk, npk, ray, hit, NULL, false);
+    return tripk_intersect(&s, sheared, pk, tripk_count(pk, npk), ray, hit, NULL, false);
 }
 
 bool prim_occluded_tris(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray, counters_t *c)
 {
     shear_t s;
     bool sheared = ray_shear(ray->dir, &s);
-    return tripk_occluded(&s, sheared, pk, npk, ray, c, true);
+    return tripk_occluded(&s, sheared, pk, tripk_count(pk, npk), ray, c, true);
 }
 
 bool prim_occluded_tris_fast(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray)
 {
     shear_t s;
     bool sheared = ray_shear(ray->dir, &s);
-    return tripk_occluded(&s, sheared, pk, npk, ray, NULL, false);
+    return tripk_occluded(&s, sheared, pk, tripk_count(pk, npk), ray, NULL, false);
 }

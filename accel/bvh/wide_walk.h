@@ -149,9 +149,8 @@ WIDE_FN bool wide_leaf(const wide_bvh *w, const prims_t *p, const wide_ray *r, u
 {
     if (child & WIDE_PACKED) {
         const prim_tri_packet *pk = w->packets + (child & WIDE_INDEX);
-        uint32_t npk = prim_tri_packets(count);
-        if (shadow) return tripk_occluded(&r->shear, r->sheared, pk, npk, ray, c, counting);
-        return tripk_intersect(&r->shear, r->sheared, pk, npk, ray, hit, c, counting);
+        if (shadow) return tripk_occluded(&r->shear, r->sheared, pk, count, ray, c, counting);
+        return tripk_intersect(&r->shear, r->sheared, pk, count, ray, hit, c, counting);
     }
     const uint32_t *ids = w->refs + (child & WIDE_INDEX);
     if (shadow) return counting ? prim_occluded_leaf(p, ids, count, ray, c) : prim_occluded_leaf_fast(p, ids, count, ray);
