@@ -256,11 +256,12 @@ static uint64_t binary_bytes(uint64_t n)
     return memcap_add(memcap_mul(n + 1, per_prim), memcap_mul(nodes, sizeof(bvh_node) + 2 * sizeof(uint32_t)));
 }
 
-/* The collapse's peak: the binary tree still held, the wide nodes, and
- * the pending triples. */
+/* The collapse's peak: the binary tree still held, the wide nodes, the
+ * pending triples and (bigleaf, slots=size) the subtrees' spans with their
+ * walk's order and stack (collapse.c). */
 static uint64_t collapse_bytes(const bvh_t *b, uint64_t wide_nodes, uint32_t width)
 {
-    uint64_t bin = memcap_add(memcap_mul(b->nnodes, sizeof(bvh_node) + 3 * sizeof(uint32_t)),
+    uint64_t bin = memcap_add(memcap_mul(b->nnodes, sizeof(bvh_node) + 3 * sizeof(uint32_t) + 20),
                               memcap_mul(b->nrefs, sizeof(uint32_t)));
     return memcap_add(bin, memcap_mul(wide_nodes, wide_node_bytes(width)));
 }

@@ -6,7 +6,12 @@
  * it most often, so pulling its children up saves the most visits) until
  * it has `width` children or only leaves remain. Each remaining interior
  * child becomes a wide node of its own, collapsed the same way. The leaves
- * are the binary tree's, so every primitive is in exactly one leaf. */
+ * are the binary tree's, so every primitive is in exactly one leaf; with a
+ * merge rule (wide_merge: Embree's leaf rule, wide.h) an interior child
+ * about to become a wide node may become one leaf of its subtree's run of
+ * refs instead, and a node's slots may be ordered by subtree size. Both
+ * need per binary node its subtree's run (subtree_spans: 12 bytes a node,
+ * and 8 more while they are computed). */
 #include <stdlib.h>
 #include <string.h>
 #include "wide.h"
