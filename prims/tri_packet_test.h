@@ -24,15 +24,14 @@
 #endif
 #define TRI_PACKET_FN static inline __attribute__((always_inline)) TRI_PACKET_TARGET
 
-TRI_PACKET_FN sheared_t tripk_corner(const shear_t *s, const prim_tri_packet *pk,
-                                                                   int corner, uint32_t l, vec3 org)
+TRI_PACKET_FN sheared_t tripk_corner(const shear_t *s, const prim_tri_packet *pk, int corner, uint32_t l, vec3 org)
 {
     return shear_vertex(s, v3(pk->v[corner][0][l], pk->v[corner][1][l], pk->v[corner][2][l]), org);
 }
 
 /* Lane l against [tnear, tmax): the one-triangle test's arithmetic. */
-TRI_PACKET_FN bool tripk_lane_hit(const shear_t *s, const prim_tri_packet *pk, uint32_t l,
-                                                           const ray_t *ray, float tmax, float *t, float *u, float *v)
+TRI_PACKET_FN bool tripk_lane_hit(const shear_t *s, const prim_tri_packet *pk, uint32_t l, const ray_t *ray,
+                                  float tmax, float *t, float *u, float *v)
 {
     return triangle_sheared_hit(s, tripk_corner(s, pk, 0, l, ray->org), tripk_corner(s, pk, 1, l, ray->org),
                                 tripk_corner(s, pk, 2, l, ray->org), ray, tmax, t, u, v);
@@ -55,9 +54,8 @@ TRI_PACKET_FN uint32_t tripk_lanes(const prim_tri_packet *pk)
  * for bit. Lanes where a float edge function is exactly 0 need the double
  * fallback: those go through the scalar tripk_lane_hit. Returns the mask of the
  * live lanes that hit in [tnear, tmax), with t, u, v per lane. */
-TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk,
-                                                                  unsigned live, const ray_t *ray, float tmax,
-                                                                  float *t, float *u, float *v)
+TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk, unsigned live, const ray_t *ray,
+                                  float tmax, float *t, float *u, float *v)
 {
     const float o[3] = {ray->org.x, ray->org.y, ray->org.z};
     const __m128 ox = _mm_set1_ps(o[s->kx]), oy = _mm_set1_ps(o[s->ky]), oz = _mm_set1_ps(o[s->kz]);
@@ -79,16 +77,16 @@ TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk,
         _mm_or_ps(_mm_cmpeq_ps(U, zero), _mm_or_ps(_mm_cmpeq_ps(V, zero), _mm_cmpeq_ps(W, zero))));
     __m128 neg = _mm_or_ps(_mm_cmplt_ps(U, zero), _mm_or_ps(_mm_cmplt_ps(V, zero), _mm_cmplt_ps(W, zero)));
     __m128 pos = _mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_or_ps(_mm_cmpgt_ps(V, zero), _mm_cmpgt_ps(W, zero)));
+    __m128 outside = _mm_and_ps(neg, pos); /* signs differ: the ray passes beside the triangle */
     /* No live lane inside (or on an edge that needs the exact test): no
      * hit, and the divisions below, most of the test's latency, are
      * skipped; the lanes that go on get the same values as before. */
-    __m128 inside = _mm_andnot_ps(_mm_and_ps(neg, pos), _mm_castsi128_ps(_mm_set1_epi32(-1)));
-    if (!(((unsigned)_mm_movemask_ps(inside) | exact) & live)) return 0;
+    if (!((~(unsigned)_mm_movemask_ps(outside) | exact) & live)) return 0;
     __m128 det = _mm_add_ps(_mm_add_ps(U, V), W);
     __m128 T = _mm_add_ps(_mm_add_ps(_mm_mul_ps(U, _mm_mul_ps(sz, Z[0])), _mm_mul_ps(V, _mm_mul_ps(sz, Z[1]))),
                           _mm_mul_ps(W, _mm_mul_ps(sz, Z[2])));
     __m128 tt = _mm_div_ps(T, det);
-    __m128 ok = _mm_andnot_ps(_mm_and_ps(neg, pos), _mm_cmpneq_ps(det, zero));
+    __m128 ok = _mm_andnot_ps(outside, _mm_cmpneq_ps(det, zero));
     ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpge_ps(tt, _mm_set1_ps(ray->tnear)), _mm_cmplt_ps(tt, _mm_set1_ps(tmax))));
     _mm_storeu_ps(t, tt);
     _mm_storeu_ps(u, _mm_div_ps(V, det));
@@ -102,9 +100,8 @@ TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk,
 }
 #else
 /* No SSE2: the lanes one after the other, the same answers. */
-TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk,
-                                                                  unsigned live, const ray_t *ray, float tmax,
-                                                                  float *t, float *u, float *v)
+TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk, unsigned live, const ray_t *ray,
+                                  float tmax, float *t, float *u, float *v)
 {
     unsigned mask = 0;
     for (uint32_t l = 0; l < PRIM_TRI_LANES; l++)

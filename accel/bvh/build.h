@@ -55,6 +55,10 @@ bvh_config bvh_top_config(const bvh_config *c, uint32_t grain);
  * own results. */
 void bvh_parallel_for(uint32_t count, uint32_t threads, void (*job)(void *ctx, uint32_t i), void *ctx);
 
+/* n primitives as a leaf's tests pay for them: whole blocks of block
+ * (the SAH's leaf_block; the collapse's merge rule, collapse.c). */
+static inline double bvh_leaf_blocks(uint32_t n, uint32_t block) { return (double)((n + block - 1) / block * block); }
+
 /* The binned SAH (build_sah.c) in parts, for builders that weigh its
  * object split against others (build_sbvh.c). bvh_sah_best: the cheapest
  * cut of ids[0 .. n) (a node with box `box`) over the three axes; cost is

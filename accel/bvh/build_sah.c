@@ -52,8 +52,6 @@ static inline uint32_t slot_of(float x, float lo, float scale, uint32_t bins)
     return f < (float)bins ? (uint32_t)f : bins - 1;
 }
 
-/* n primitives as the leaf tests pay for them: whole blocks. */
-static inline double blocks(uint32_t n, uint32_t block) { return (double)((n + block - 1) / block * block); }
 
 uint32_t bvh_sah_bins(uint32_t n, const bvh_config *cfg)
 {
@@ -155,7 +153,7 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
         for (uint32_t k = nb - 1; k > 0; k--) {
             acc = box4_union(acc, bin[k].box);
             cnt += bin[k].count;
-            right[k - 1] = cnt ? (double)box4_area(acc) * blocks(cnt, cfg->leaf_block) : -1.0; /* -1: empty side */
+            right[k - 1] = cnt ? (double)box4_area(acc) * bvh_leaf_blocks(cnt, cfg->leaf_block) : -1.0; /* -1: empty side */
             right_box[k - 1] = acc;
         }
         acc = box4_empty();
@@ -164,7 +162,7 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
             acc = box4_union(acc, bin[k].box);
             cnt += bin[k].count;
             if (!cnt || right[k] < 0.0) continue;
-            double cost = cfg->cost_traversal * area + cfg->cost_intersect * ((double)box4_area(acc) * blocks(cnt, cfg->leaf_block) + right[k]);
+            double cost = cfg->cost_traversal * area + cfg->cost_intersect * ((double)box4_area(acc) * bvh_leaf_blocks(cnt, cfg->leaf_block) + right[k]);
             if (cost < ch.cost) ch.cost = cost, ch.axis = axis, ch.slot = k, ch.left = box4_store(acc), ch.right = box4_store(right_box[k]);
         }
     }
@@ -192,7 +190,7 @@ uint32_t bvh_sah_partition(uint32_t *ids, uint32_t n, const vec3 *centroids, con
 
 double bvh_sah_leaf_cost(uint32_t n, box3 box, const bvh_config *cfg)
 {
-    return (double)cfg->cost_intersect * blocks(n, cfg->leaf_block) * box_area(box);
+    return (double)cfg->cost_intersect * bvh_leaf_blocks(n, cfg->leaf_block) * box_area(box);
 }
 
 static uint32_t sah_split(uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,

@@ -14,6 +14,7 @@
  * and 8 more while they are computed). */
 #include <stdlib.h>
 #include <string.h>
+#include "build.h"
 #include "wide.h"
 
 const char *const wide_isa_names[WIDE_ISA_COUNT + 1] = {"scalar", "sse42", "avx2", "avx512", NULL};
@@ -95,9 +96,6 @@ static span_t *subtree_spans(const bvh_t *b)
     return span;
 }
 
-/* n primitives as a leaf's tests pay for them: whole blocks. */
-static double merge_blocks(uint32_t n, uint32_t block) { return (double)((n + block - 1) / block * block); }
-
 /* Whether interior binary node bi becomes one leaf of its subtree's refs:
  * at most m->max_leaf of them in one run, and the SAH's leaf cost no more
  * than its split's, ct A(bi) + ci (N(L) A(L) + N(R) A(R)) against ci N A(bi)
@@ -107,9 +105,9 @@ static bool merges(const bvh_t *b, const span_t *span, const wide_merge *m, uint
     if (!span || !m->max_leaf || b->nodes[bi].count || !span[bi].count || span[bi].count > m->max_leaf) return false;
     const bvh_node *nd = &b->nodes[bi], *l = &b->nodes[nd->index], *r = l + 1;
     const uint32_t blk = m->leaf_block ? m->leaf_block : 1;
-    double leaf = merge_blocks(span[bi].count, blk) * box_area(nd->box);
-    double split = m->cost_traversal * box_area(nd->box) + merge_blocks(span[nd->index].count, blk) * box_area(l->box) +
-                   merge_blocks(span[nd->index + 1].count, blk) * box_area(r->box);
+    double leaf = bvh_leaf_blocks(span[bi].count, blk) * box_area(nd->box);
+    double split = m->cost_traversal * box_area(nd->box) + bvh_leaf_blocks(span[nd->index].count, blk) * box_area(l->box) +
+                   bvh_leaf_blocks(span[nd->index + 1].count, blk) * box_area(r->box);
     return leaf <= split;
 }
 
@@ -128,12 +126,27 @@ static slot_t slot_of(const bvh_t *b, const span_t *span, const wide_merge *m, u
     return (slot_t){false, 0, 0};
 }
 
-static int collapse(wide_bvh *w, const bvh_t *b, uint32_t width, const wide_merge *m, uint32_t *total);
+static int collapse(wide_bvh *w, const bvh_t *b, uint32_t width, const wide_merge *m, const span_t *span,
+                    uint32_t *total);
+
+/* The spans the merge rule m needs (NULL when it needs none); *ok false
+ * out of memory. */
+static span_t *spans_for(const bvh_t *b, const wide_merge *m, bool *ok)
+{
+    span_t *span = m && (m->max_leaf || m->by_size) ? subtree_spans(b) : NULL;
+    *ok = span || !(m && (m->max_leaf || m->by_size));
+    return span;
+}
 
 uint32_t wide_count_nodes(const bvh_t *b, uint32_t width, const wide_merge *m)
 {
+    if (!b->nnodes) return 0;
+    bool ok;
+    span_t *span = spans_for(b, m, &ok);
     uint32_t total = 0;
-    return collapse(NULL, b, width, m, &total) ? UINT32_MAX : total;
+    int rc = ok ? collapse(NULL, b, width, m, span, &total) : -1;
+    free(span);
+    return rc ? UINT32_MAX : total;
 }
 
 void wide_set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t child, uint32_t count)
@@ -178,19 +191,15 @@ void wide_set_orders(wide_bvh *w, uint32_t ni, uint32_t n)
 /* The collapse, or with w NULL only its node count (*total). The root's
  * binary node is a wide node's source unless it is a leaf or merges: then
  * the root holds it as one leaf child. */
-static int collapse(wide_bvh *w, const bvh_t *b, uint32_t width, const wide_merge *m, uint32_t *total)
+static int collapse(wide_bvh *w, const bvh_t *b, uint32_t width, const wide_merge *m, const span_t *span,
+                    uint32_t *total)
 {
     *total = 0;
     if (!b->nnodes) return 0;
-    const bool need_span = m && (m->max_leaf || m->by_size);
-    span_t *span = need_span ? subtree_spans(b) : NULL;
     /* (binary node, wide node, depth) triples pending: at most one per
      * interior binary node, plus the root. */
     uint32_t *pending = malloc(3 * ((size_t)b->nnodes + 1) * sizeof *pending), np = 0, nnodes = 1;
-    if ((need_span && !span) || !pending) {
-        free(span), free(pending);
-        return -1;
-    }
+    if (!pending) return -1;
     pending[np++] = 0, pending[np++] = 0, pending[np++] = 0;
     while (np) {
         uint32_t depth = pending[--np], ni = pending[--np], bi = pending[--np], list[8];
@@ -228,7 +237,6 @@ static int collapse(wide_bvh *w, const bvh_t *b, uint32_t width, const wide_merg
         w->nchildren += n;
     }
     free(pending);
-    free(span);
     *total = nnodes;
     return 0;
 }
@@ -238,20 +246,25 @@ int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m)
     memset(w, 0, sizeof *w);
     w->width = width;
     if (!b->nnodes) return 0;
-    uint32_t total = wide_count_nodes(b, width, m);
-    size_t bytes = (size_t)total * wide_node_bytes(width);
-    w->nodes = total == UINT32_MAX ? NULL : aligned_alloc(64, bytes);
-    if (!w->nodes) {
-        memset(w, 0, sizeof *w);
-        return -1;
+    /* The spans once, for the count and the fill. */
+    bool ok;
+    span_t *span = spans_for(b, m, &ok);
+    uint32_t total = 0;
+    if (ok && !collapse(NULL, b, width, m, span, &total)) {
+        size_t bytes = (size_t)total * wide_node_bytes(width);
+        w->nodes = aligned_alloc(64, bytes);
+        if (w->nodes) {
+            memset(w->nodes, 0, bytes);
+            w->nnodes = total;
+        }
     }
-    memset(w->nodes, 0, bytes);
-    w->nnodes = total;
-    if (collapse(w, b, width, m, &total)) {
+    if (!w->nodes || collapse(w, b, width, m, span, &total)) {
+        free(span);
         free(w->nodes);
         memset(w, 0, sizeof *w);
         return -1;
     }
+    free(span);
     w->refs = b->refs;
     w->nrefs = b->nrefs;
     b->refs = NULL;

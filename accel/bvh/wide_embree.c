@@ -168,7 +168,8 @@ int wide_build_embree(wide_bvh *w, const box3 *boxes, uint32_t n, uint32_t threa
     if (((const eleaf *)root)->leaf) {
         single = (enode){.leaf = 0, .n = 1};
         single.child[0] = root;
-        for (uint32_t i = 0; i < n; i++) single.box[0] = i ? box_union(single.box[0], boxes[i]) : boxes[i];
+        single.box[0] = box_empty();
+        for (uint32_t i = 0; i < n; i++) single.box[0] = box_union(single.box[0], boxes[i]);
         root = &single;
     }
     uint32_t nodes = 0;
