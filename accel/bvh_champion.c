@@ -159,13 +159,31 @@
  *                 leafsize, minleaf, bigleaf, slots and travcost settings
  *                 do not apply; its build time is Embree's builder's plus
  *                 the copy into our nodes.
+ *   compress=off  on: the 8-wide nodes quantised after the build (accel/
+ *                 bvh/wide_quantize.c, Ylitie, Karras, Laine, HPG 2017,
+ *                 section 3.1: each child plane a byte of power-of-two
+ *                 steps above the node's lower corner, rounded outward, so
+ *                 a decoded box always contains the exact one), 128 bytes
+ *                 a node instead of 256, decoded in every box test
+ *                 (widened, converted and multiplied-added before the slab
+ *                 test); width=8 only (refused otherwise); a node wider
+ *                 than 255 steps of 2^120 (a scene spanning about FLT_MAX)
+ *                 is refused with one line. Measured 2026-12-05 (1 thread,
+ *                 AVX-512, Sponza, the bunny, spd:balls:4:t x primary,
+ *                 shadow, diffuse, random, 256x256, 7 repeats, 2 runs,
+ *                 each paired with Embree): 10.6-13.1 bytes a triangle
+ *                 fewer (15-17 %; Sponza split=sbvh 87.1 -> 74.0), trace
+ *                 time 1.12x compress=off's in geometric mean (1.11x
+ *                 under split=sbvh): it pays in memory, not in speed, so
+ *                 it stays off.
  *   memcap=4096   MiB: refuse a build whose scratch and nodes would pass it
  *                 (checked before the binary build over its estimate, and
  *                 before the collapse over the exact wide node count).
  *
  * Node sizes and memory layout: accel/bvh/wide.h (BVH2 nodes 64 bytes,
  * BVH4 nodes 128, BVH8 nodes 256, each with its octant orders in its last
- * 2W bytes, which were padding before; 64-byte aligned node array,
+ * 2W bytes, which were padding before; compress=on's quantised BVH8 nodes
+ * 128, the box test's bytes in the first line; 64-byte aligned node array,
  * then 4 bytes of primitive id per primitive in leaf order, then with
  * packets=on 160 bytes per packet, ceil(count / 4) per all-triangle
  * leaf). memory() is this object (about 80 bytes) plus nodes, refs and
@@ -183,16 +201,7 @@
  * prim_*_leaf call a leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
  * refs_per_prim, avg_children (used slots per node).
  *
- * Not yet: reference unsplitting; compress=on (Ylitie, Karras, Laine, "Efficient
- * Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG
- * 2017: child boxes as 8-bit plane offsets from the node's box with a
- * power-of-two scale per axis, rounded outward) is not implemented: it
- * needs its own node layout (a BVH8 node from 256 to about 80 bytes) and
- * decoding in all four kernels kept bit-identical to the scalar one. Nodes
- * are about 30 % of the bytes per triangle here (results/champion-
- * 20261203-085509: 67-70 bytes a triangle, the rest refs and packets), so
- * it would save some 14 bytes a triangle at most, and the memory target
- * (84) is met without it. */
+ * Not yet: Stich et al.'s reference unsplitting. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -221,6 +230,8 @@ static const accel_param champ_params[] = {
     {"isa", "auto", "box kernels: auto (the best this CPU has) | scalar | sse42 | avx2 | avx512"},
     {"tree", "own", "own: the builds above | embree: Embree's own builder's 8-wide tree (rtcBuildBVH), our kernels over "
                     "it (a diagnostic: width=8, split=object only)"},
+    {"compress", "off", "on: 8-wide nodes of 128 bytes, child boxes as 8-bit planes (Ylitie et al. 2017) | off: 256, "
+                        "float planes"},
     {"memcap", "4096", "MiB: refuse a build whose scratch and nodes exceed it"},
     {NULL, NULL, NULL},
 };
@@ -299,7 +310,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     static const char *const splits[] = {"object", "sbvh", NULL}, *const binnings[] = {"split", "clip", NULL};
     static const char *const orders[] = {"distance", "octant", NULL}, *const trees[] = {"own", "embree", NULL};
     static const char *const slot_orders[] = {"split", "size", NULL};
-    int by_size, embree_tree, wsel, packets, sbvh, exact_bins, octant, small_bins;
+    int by_size, embree_tree, wsel, packets, sbvh, exact_bins, octant, small_bins, compress;
     long bins, leafsize, memcap, minleaf, bigleaf;
     double travcost, alpha;
     wide_isa isa;
@@ -317,9 +328,14 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
         params_get_choice(params, "order", orders, &octant, err, errlen) ||
         params_get_choice(params, "packets", onoff, &packets, err, errlen) || parse_isa(params, &isa, err, errlen) ||
         params_get_choice(params, "tree", trees, &embree_tree, err, errlen) ||
+        params_get_choice(params, "compress", onoff, &compress, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
         return NULL;
     const uint32_t width = 2u << wsel;
+    if (compress && width != 8) {
+        snprintf(err, errlen, "bvh compress=on: quantised nodes are 8 wide (width=8)");
+        return NULL;
+    }
     const prims_t *p = &scene->prims;
     const uint32_t n = p->count;
     if (n > WIDE_INDEX) {
@@ -342,7 +358,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     t->base.scene = scene;
     t->p = p;
     t->isa = wide_isa_running(isa, width); /* the kernel that runs */
-    t->k = wide_kernels_for(isa, width);
+    t->k = compress ? wide_kernels_quantized(isa) : wide_kernels_for(isa, width);
 
     /* The kit's binary tree over the primitives' boxes. */
     for (uint32_t id = 0; id < n; id++) boxes[id] = prim_bounds(p, id);
@@ -418,6 +434,14 @@ pack:
                             t->w.nnodes, width, (unsigned long long)npk, n))
             goto fail;
         if (wide_pack_leaves(&t->w, p)) goto oom;
+    }
+    /* compress=on: the nodes quantised, both arrays held while it runs. */
+    if (compress) {
+        if (memcap_exceeded(memcap_add(wide_memory(&t->w), memcap_mul(t->w.nnodes, sizeof(wide8q_node))),
+                            (uint64_t)memcap, err, errlen, "bvh compress=on: %u BVH8 nodes and their quantised copies",
+                            t->w.nnodes))
+            goto fail;
+        if (wide_quantize(&t->w, err, errlen)) goto fail;
     }
     return &t->base;
 oom:
@@ -520,9 +544,8 @@ static box3 champ_bounds(const accel *a)
     const champ_t *t = (const champ_t *)a;
     box3 b = box_empty();
     if (!t->w.nnodes) return b;
-    const uint32_t W = t->w.width;
-    const float *rows = WIDE_ROWS(t->w.nodes);
-    for (uint32_t k = 0; k < W; k++) b = box_union(b, wide_slot_box(rows, W, k));
+    const uint32_t n = WIDE_NCHILDREN_Q(t->w.nodes, t->w.width, t->w.quantized);
+    for (uint32_t k = 0; k < n; k++) b = box_union(b, wide_node_slot_box(&t->w, 0, k));
     return b;
 }
 
@@ -537,7 +560,7 @@ const wide_bvh *bvh_champion_tree(const accel *a, wide_isa *isa)
 /* Every width with every instruction set this CPU has (the conformance
  * suite cannot skip a variant that this machine refuses, so the list is
  * made at start-up from the CPU), and the leaf and bin settings. */
-static const char *champ_variants[2 * WIDE_ISA_COUNT + 14];
+static const char *champ_variants[2 * WIDE_ISA_COUNT + 18];
 __attribute__((constructor)) static void champ_fill_variants(void)
 {
     static const char *const all[2][WIDE_ISA_COUNT] = {
@@ -558,6 +581,10 @@ __attribute__((constructor)) static void champ_fill_variants(void)
     champ_variants[n++] = "order=octant,width=4,isa=scalar";
     champ_variants[n++] = "minleaf=4,bigleaf=28,travcost=4,slots=size";
     champ_variants[n++] = "tree=embree";
+    champ_variants[n++] = "compress=on";
+    champ_variants[n++] = "compress=on,isa=scalar";
+    if (wide_isa_supported(WIDE_ISA_SSE42)) champ_variants[n++] = "compress=on,isa=sse42";
+    champ_variants[n++] = "compress=on,split=sbvh,order=octant";
     champ_variants[n++] = "split=sbvh";
     champ_variants[n++] = "split=sbvh,alpha=0,width=4,leafsize=1";
     champ_variants[n++] = "split=sbvh,binning=clip,width=2";
@@ -570,8 +597,8 @@ const struct accel_ops accel_bvh = {
     .summary = "wide SIMD BVH: binned SAH tree collapsed to 4 or 8 children, nearest-first traversal, box kernels "
                "by run-time ISA dispatch (scalar, SSE4.2, AVX2, AVX-512)",
     .paper = "MacDonald & Booth 1990; Wald, IEEE RT 2007; Dammertz et al., EGSR 2008; Ernst & Greiner, IEEE RT 2008; "
-             "Wald, Benthin, Boulos, IEEE RT 2008; Ylitie, Karras, Laine, HPG 2017 and Fuetterling et al., HPG 2017 "
-             "(order=octant)",
+             "Wald, Benthin, Boulos, IEEE RT 2008; Ylitie, Karras, Laine, HPG 2017 (order=octant, compress=on) and "
+             "Fuetterling et al., HPG 2017 (order=octant)",
     .params = champ_params,
     .flags = 0,
     .build = champ_build,

@@ -42,6 +42,14 @@
  *               by the merge, slots by subtree size, and node and leaf
  *               counts within 2 % of Embree's tree; tree=embree refused
  *               with width=4 or split=sbvh
+ *   compress    compress=on (quantised BVH8 nodes): decoded boxes contain
+ *               the exact ones within a step, at scales from 1e-30 to
+ *               1e37 and zero extents; a node wider than the largest scale
+ *               refused; every ISA against scalar (in simd), the one-leaf
+ *               root and the overflowing entry (in single and overflow);
+ *               answers as exhaustive's on the bunny, 128 bytes a node
+ *               saved; wide_check refusing a shrunk quantised slot;
+ *               width=4 refused
  *   refusals    width=5, isa=neon, leafsize=0, bins=1; an ISA the CPU lacks
  *   settle      isa=auto settles to the ISA build() picks; smallbins to off
  *               under split=sbvh */
@@ -158,13 +166,14 @@ static ray_t *axis_rays(const scene_t *s, uint32_t *count)
 /* Every ISA this CPU has at width W against scalar, on every workload. */
 static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char *extra)
 {
+    const int first_width = strstr(extra, "compress=on") ? 8 : 2; /* quantised nodes are 8 wide */
     workload_opts o = test_wl(res, res, 2);
     rayset_t *sets[16];
     int nsets = 0;
     for (int w = 0; workload_table[w].name && nsets < 16; w++) sets[nsets++] = workload_table[w].make(s, embree, &o);
     uint32_t naxis;
     ray_t *axis = axis_rays(s, &naxis);
-    for (int width = 2; width <= 8; width *= 2) {
+    for (int width = first_width; width <= 8; width *= 2) {
         char cfg[128];
         snprintf(cfg, sizeof cfg, "width=%d,isa=scalar%s", width, extra);
         accel *ref = champ_with(s, cfg);
@@ -212,6 +221,8 @@ static void test_simd(void)
         simd_vs_scalar(s, embree, 48, "");
         /* order=octant: every ISA's walk in the octant order gives the scalar one's answers and counters */
         simd_vs_scalar(s, embree, 32, ",order=octant");
+        /* compress=on: every ISA's decoding of the quantised planes gives the scalar one's answers and counters */
+        simd_vs_scalar(s, embree, 32, ",compress=on");
         if (i == 2) simd_vs_scalar(s, embree, 32, ",leafsize=1"); /* leafsize=1 on the bunny */
         embree->ops->destroy(embree);
         scene_free(s);
@@ -269,9 +280,9 @@ static scene_t *one_triangle(void)
 static void test_single(void)
 {
     scene_t *s = one_triangle();
-    for (int w = 2; w <= 8; w *= 2) {
+    for (int w = 2; w <= 16; w *= 2) {
         char cfg[64];
-        snprintf(cfg, sizeof cfg, "width=%d", w);
+        snprintf(cfg, sizeof cfg, w == 16 ? "compress=on" : "width=%d", w); /* 16: the quantised BVH8 */
         accel *x = champ_with(s, cfg);
         const wide_bvh *t = bvh_champion_tree(x, NULL);
         CHECK(t->nnodes == 1 && t->nleaves == 1 && t->nchildren == 1 && t->max_depth == 1);
@@ -287,6 +298,7 @@ static void test_single(void)
         x->ops->destroy(x);
     }
     against_exhaustive(s, "", 16, true);
+    against_exhaustive(s, "compress=on", 16, true);
     scene_free(s);
 
     s = scene_new("one sphere");
@@ -307,11 +319,12 @@ static void test_single(void)
 static void test_overflowing_entry(void)
 {
     scene_t *s = one_triangle();
-    for (int w = 2; w <= 8; w *= 2)
+    for (int w = 2; w <= 16; w *= 2) /* 16: the quantised BVH8 */
         for (int isa = WIDE_ISA_SCALAR; isa < WIDE_ISA_COUNT; isa++) {
             if (!wide_isa_supported((wide_isa)isa)) continue;
             char cfg[64];
-            snprintf(cfg, sizeof cfg, "width=%d,isa=%s", w, wide_isa_names[isa]);
+            snprintf(cfg, sizeof cfg, "width=%d,isa=%s%s", w == 16 ? 8 : w, wide_isa_names[isa],
+                     w == 16 ? ",compress=on" : "");
             accel *x = champ_with(s, cfg);
             accel_ctx *ctx = x->ops->context_new(x);
             ray_t r = {v3(-0x1p60f, -5, 0), 0, v3(1e-30f, 0, 0), INFINITY, RAY_NO_LIGHT, 0};
@@ -586,6 +599,101 @@ static void test_embree_rules(void)
     scene_free(s);
 }
 
+/* A quantised node of these boxes: every decoded slot contains its box and
+ * is at most one scale step (plus the decoding's rounding) larger on each
+ * side; 0, or -1 when wide_quantize refuses (err says why). */
+static int quantize_boxes(const box3 *box, uint32_t n, char *err, size_t errlen)
+{
+    wide_bvh w = {0};
+    w.width = 8, w.nnodes = 1;
+    w.nodes = aligned_alloc(64, sizeof(wide8_node));
+    memset(w.nodes, 0, sizeof(wide8_node));
+    for (uint32_t k = 0; k < 8; k++)
+        wide_set_slot(&w, 0, k, k < n ? box[k] : box_empty(), k < n ? WIDE_LEAF | k : WIDE_EMPTY, k < n);
+    WIDE_NCHILDREN(w.nodes, 8) = (uint8_t)n;
+    int rc = wide_quantize(&w, err, errlen);
+    if (rc == 0) {
+        const wide8q_node *q = w.nodes;
+        CHECK(w.quantized && q->nchildren == n);
+        for (uint32_t k = 0; k < n; k++) {
+            box3 d = wide_node_slot_box(&w, 0, k);
+            const float lo[3] = {box[k].lo.x, box[k].lo.y, box[k].lo.z}, hi[3] = {box[k].hi.x, box[k].hi.y, box[k].hi.z};
+            const float dlo[3] = {d.lo.x, d.lo.y, d.lo.z}, dhi[3] = {d.hi.x, d.hi.y, d.hi.z};
+            for (int ax = 0; ax < 3; ax++) {
+                double step = wide_q_scale(q->scale_exp[ax]), slack = step + fabs((double)q->origin[ax]) * 0x1p-23;
+                CHECK_MSG(dlo[ax] <= lo[ax] && dhi[ax] >= hi[ax], "slot %u axis %d: [%a, %a] decoded as [%a, %a]", k,
+                          ax, lo[ax], hi[ax], dlo[ax], dhi[ax]);
+                CHECK_MSG(lo[ax] - dlo[ax] <= slack && dhi[ax] - hi[ax] <= slack,
+                          "slot %u axis %d: [%a, %a] decoded loosely as [%a, %a] (step %a)", k, ax, lo[ax], hi[ax],
+                          dlo[ax], dhi[ax], step);
+            }
+        }
+    }
+    wide_free(&w);
+    return rc;
+}
+
+/* compress=on (accel/bvh/wide_quantize.c): decoded boxes contain the
+ * exact ones and stay within a step of them, on random boxes at every
+ * scale from 1e-30 to 1e37, on boxes of zero extent and on one node of
+ * the 10^6-triangle grid; a node wider than the largest scale reaches is
+ * refused with one line; the bunny's answers as exhaustive's and memory
+ * 128 bytes a node less than compress=off's; width=4 refused. */
+static void test_compress(void)
+{
+    uint64_t seed = 12345;
+    char err[256];
+    for (int trial = 0; trial < 4000; trial++) {
+        box3 box[8];
+        const uint32_t n = 1 + trial % 8;
+        const float mag = powf(10.0f, (float)(trial % 68) - 30.0f); /* 1e-30 .. 1e37 */
+        for (uint32_t k = 0; k < n; k++) {
+            float c[6];
+            for (int i = 0; i < 6; i++) {
+                seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+                c[i] = mag * ((float)(seed >> 40) / (float)(1 << 24) * 2.0f - 1.0f);
+            }
+            if (trial % 5 == 0) c[1] = c[0]; /* zero extent on x */
+            box[k] = (box3){{fminf(c[0], c[1]), fminf(c[2], c[3]), fminf(c[4], c[5])},
+                            {fmaxf(c[0], c[1]), fmaxf(c[2], c[3]), fmaxf(c[4], c[5])}};
+        }
+        CHECK_MSG(quantize_boxes(box, n, err, sizeof err) == 0, "trial %d: %s", trial, err);
+    }
+    printf("compress: 4000 random nodes, every decoded slot contains its box within a step\n");
+    const box3 wide[2] = {{{-3e38f, 0, 0}, {-2e38f, 1, 1}}, {{2e38f, 0, 0}, {3e38f, 1, 1}}};
+    err[0] = 0;
+    CHECK_MSG(quantize_boxes(wide, 2, err, sizeof err) != 0 && strstr(err, "compress=on") && strstr(err, "on x") &&
+                  !strchr(err, '\n'),
+              "a node from -3e38 to 3e38 on x: %s", err[0] ? err : "quantised");
+    printf("refused as it should: %s\n", err);
+
+    scene_t *s = test_scene("bunny");
+    against_exhaustive(s, "compress=on", 24, true);
+    against_exhaustive(s, "compress=on,split=sbvh,order=octant", 16, true);
+    accel *off = champ_with(s, ""), *on = champ_with(s, "compress=on");
+    const wide_bvh *woff = bvh_champion_tree(off, NULL), *won = bvh_champion_tree(on, NULL);
+    CHECK(won->quantized && !woff->quantized && won->nnodes == woff->nnodes);
+    CHECK_MSG(off->ops->memory(off) - on->ops->memory(on) == (size_t)woff->nnodes * 128,
+              "memory %zu against %zu over %u nodes", on->ops->memory(on), off->ops->memory(off), woff->nnodes);
+    printf("compress=on on the bunny: %zu bytes against %zu (%u nodes of 128 bytes instead of 256)\n",
+           on->ops->memory(on), off->ops->memory(off), won->nnodes);
+    /* wide_check sees a quantised slot shrunk below what it holds. */
+    wide8q_node *root = won->nodes;
+    const uint8_t keep = root->q[1][0];
+    root->q[1][0] = root->q[0][0]; /* slot 0's upper x plane down to its lower one */
+    CHECK_MSG(wide_check(won, s->prims.bounds, s->prims.count, err, sizeof err) != 0, "a shrunk quantised slot passes");
+    printf("shrunk quantised slot: %s\n", err);
+    root->q[1][0] = keep;
+    CHECK(wide_check(won, s->prims.bounds, s->prims.count, err, sizeof err) == 0);
+    on->ops->destroy(on);
+    off->ops->destroy(off);
+    err[0] = 0;
+    accel *a = test_build_with(accel_find("bvh"), s, "compress=on,width=4", 1, err, sizeof err);
+    CHECK_MSG(!a && strstr(err, "compress=on") && strstr(err, "width=8"), "compress=on,width=4: %s", a ? "built" : err);
+    if (a) a->ops->destroy(a);
+    scene_free(s);
+}
+
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -599,5 +707,6 @@ int main(void)
     test_sbvh();
     test_octant();
     test_embree_rules();
+    test_compress();
     return check_report();
 }

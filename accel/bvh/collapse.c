@@ -164,27 +164,38 @@ void wide_set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t chil
     counts[k] = (uint8_t)count;
 }
 
-/* Node ni's slot orders per octant (wide.h): the n used slots by the
- * centres of their boxes projected on the octant's diagonal, ascending,
- * ties by slot (an insertion sort: stable), then the unused slots. */
-void wide_set_orders(wide_bvh *w, uint32_t ni, uint32_t n)
+/* The orders per octant (wide.h) of n slots with these boxes: by the
+ * centres of the boxes projected on the octant's diagonal, ascending, ties
+ * by slot (an insertion sort: stable), then the unused slots. */
+void wide_orders_of(const box3 *box, uint32_t n, uint32_t W, uint32_t order[WIDE_OCTANTS])
 {
-    const uint32_t W = w->width;
-    char *node = (char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(W), *orders = node + WIDE_ORDER_OFFSET(W);
     for (uint32_t oct = 0; oct < WIDE_OCTANTS; oct++) {
         float key[8];
         uint32_t ord[8];
         for (uint32_t k = 0; k < W; k++) {
-            if (k < n) key[k] = wide_octant_key(wide_slot_box(WIDE_ROWS(node), W, k), oct);
+            if (k < n) key[k] = wide_octant_key(box[k], oct);
             uint32_t j = k;
             while (k < n && j > 0 && key[ord[j - 1]] > key[k]) ord[j] = ord[j - 1], j--;
             ord[j] = k;
         }
-        uint32_t packed = 0;
-        for (uint32_t i = 0; i < W; i++) packed |= ord[i] << (3 * i);
-        if (W == 2) ((uint8_t *)orders)[oct] = (uint8_t)packed;
-        else if (W == 4) ((uint16_t *)orders)[oct] = (uint16_t)packed;
-        else ((uint32_t *)orders)[oct] = packed;
+        order[oct] = 0;
+        for (uint32_t i = 0; i < W; i++) order[oct] |= ord[i] << (3 * i);
+    }
+}
+
+/* Node ni's slot orders per octant from its n used slots' boxes. */
+void wide_set_orders(wide_bvh *w, uint32_t ni, uint32_t n)
+{
+    const uint32_t W = w->width;
+    char *node = (char *)w->nodes + (size_t)ni * WIDE_NODE_BYTES(W), *orders = node + WIDE_ORDER_OFFSET(W);
+    box3 box[8];
+    uint32_t order[WIDE_OCTANTS];
+    for (uint32_t k = 0; k < n; k++) box[k] = wide_slot_box(WIDE_ROWS(node), W, k);
+    wide_orders_of(box, n, W, order);
+    for (uint32_t oct = 0; oct < WIDE_OCTANTS; oct++) {
+        if (W == 2) ((uint8_t *)orders)[oct] = (uint8_t)order[oct];
+        else if (W == 4) ((uint16_t *)orders)[oct] = (uint16_t)order[oct];
+        else ((uint32_t *)orders)[oct] = order[oct];
     }
 }
 
@@ -282,7 +293,7 @@ void wide_free(wide_bvh *w)
 
 size_t wide_memory(const wide_bvh *w)
 {
-    return (size_t)w->nnodes * wide_node_bytes(w->width) + (size_t)w->nrefs * sizeof(uint32_t) +
+    return (size_t)w->nnodes * WIDE_NODE_SIZE(w->width, w->quantized) + (size_t)w->nrefs * sizeof(uint32_t) +
            (size_t)w->npackets * sizeof(prim_tri_packet);
 }
 

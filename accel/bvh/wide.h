@@ -1,5 +1,6 @@
 /* wide.h: the wide BVH of the `bvh` accelerator (accel/bvh_champion.c):
- * node layouts for 4 and 8 children, the collapse from the kit's binary
+ * node layouts for 2, 4 and 8 children and the quantised 8-wide one of
+ * compress=on (wide_quantize.c), the collapse from the kit's binary
  * tree (collapse.c), Embree's own 8-wide tree copied in for `tree=embree`
  * (wide_embree.c), the traversal kernels per instruction set
  * (wide_traverse_*.c on the one walk of wide_walk.h) and their dispatch
@@ -61,6 +62,30 @@
  * ceil(count / 4) of them contiguous, 64-byte aligned. An empty scene has
  * nnodes == 0. Total = node bytes * nnodes + 4 nrefs + 160 npackets
  * (wide_memory()).
+ * compress=on (wide_quantize, wide_quantize.c): BVH8 nodes with their
+ *   children's boxes quantised to 8 bits a plane, in the style of Ylitie,
+ *   Karras and Laine, HPG 2017, section 3.1 (their 80-byte node keeps child
+ *   and triangle base indices; this one keeps the child and count words
+ *   above, so the walk is unchanged but for the box test), 128 bytes:
+ *   q[6][8]     uint8, the box rows as above, each plane as a multiple of
+ *               its axis's scale above the node's origin;
+ *   origin[3]   float, the lower corner of the node's box;
+ *   scale_exp[3] uint8, the biased float exponent e of the axis's scale
+ *               2^(e - 127), 1..247, so q * scale is exact (at most 8 + 24
+ *               bits, never overflowing) and a plane decodes as
+ *               origin + q * scale with one rounding, the same in every
+ *               kernel whether it multiplies and adds or fuses them;
+ *   nchildren   uint8 (an unused slot decodes to a box at the origin, so
+ *               the kernels mask the hits with the used slots instead);
+ *   child[8], count[8], 8 bytes of padding, order[4] as above.
+ *   The first cache line holds all the box test reads, the second the
+ *   words it reads after. Each plane is rounded outward at build: the
+ *   largest lower q and the smallest upper q whose decoded plane, computed
+ *   as the kernels compute it, still contains the child's box; the scale
+ *   is the smallest power of two whose 255 steps reach the node's upper
+ *   corner. So a quantised slot always contains the exact one and the
+ *   box test stays conservative; its orders are those of the decoded
+ *   boxes.
  * Per context: the traversal stack (wide_entry), 12 bytes an entry,
  * (W - 1) (depth + 1) + 1 entries, enough for any walk of this tree
  * (wide_stack_cap()), and WIDE_STACK_SLACK more. */
@@ -113,6 +138,30 @@ typedef struct {
 } wide8_node;
 _Static_assert(sizeof(wide8_node) == 256, "wide8_node: 8*6*4 + 8*4 + 8 + 1 + 7 + 16 = 256 bytes (four cache lines)");
 
+typedef struct {
+    uint8_t q[6][8];      /* 48: the planes of the 8 children as box rows, in units of the axis scale above origin */
+    float origin[3];      /* 12: the node box's lower corner */
+    uint8_t scale_exp[3]; /*  3: per axis the biased exponent of the scale, 2^(e - 127), 1..WIDE_Q_MAX_EXP */
+    uint8_t nchildren;    /*  1: used slots, always the first ones */
+    uint32_t child[8];    /* 32: as wide8_node's */
+    uint8_t count[8];     /*  8 */
+    uint8_t pad[8];       /*  8 */
+    uint32_t order[4];    /* 16: as wide8_node's */
+} wide8q_node;
+_Static_assert(sizeof(wide8q_node) == 128, "wide8q_node: 48 + 12 + 3 + 1 + 32 + 8 + 8 + 16 = 128 bytes (two cache lines)");
+_Static_assert(offsetof(wide8q_node, child) == 64, "wide8q_node: the box test reads only its first line");
+#define WIDE_Q_MAX_EXP 247 /* 255 * 2^(247 - 127) < FLT_MAX: q * scale never overflows */
+
+/* A quantised plane decoded: origin + q * 2^(e - 127). q * scale is exact,
+ * so the sum rounds once, as the SIMD kernels' fused or separate
+ * multiply-add does. */
+static inline float wide_q_scale(uint8_t e)
+{
+    union { uint32_t u; float f; } s = {(uint32_t)e << 23};
+    return s.f;
+}
+static inline float wide_q_plane(float origin, uint8_t q, uint8_t e) { return origin + (float)q * wide_q_scale(e); }
+
 /* Every layout is box[6][W], child[W], count[W], nchildren at the same
  * offsets in units of W, so one accessor serves all widths. */
 #define WIDE_NODE_BYTES(W) ((W) == 2 ? sizeof(wide2_node) : (W) == 4 ? sizeof(wide4_node) : sizeof(wide8_node))
@@ -137,6 +186,15 @@ _Static_assert(offsetof(wide8_node, child) == 24 * 8 && offsetof(wide8_node, cou
     ((W) == 2   ? (uint32_t)((const uint8_t *)((const char *)(node) + WIDE_ORDER_OFFSET(2)))[oct]                     \
      : (W) == 4 ? (uint32_t)((const uint16_t *)((const char *)(node) + WIDE_ORDER_OFFSET(4)))[oct]                    \
                 : ((const uint32_t *)((const char *)(node) + WIDE_ORDER_OFFSET(8)))[oct])
+/* The same accessors for either layout: Q says the nodes are wide8q_node
+ * (w->quantized; W is then 8). */
+#define WIDE_NODE_SIZE(W, Q) ((Q) ? sizeof(wide8q_node) : WIDE_NODE_BYTES(W))
+#define WIDE_NODE_AT(nodes, i, W, Q) ((char *)(nodes) + (size_t)(i) * WIDE_NODE_SIZE(W, Q))
+#define WIDE_CHILD_Q(node, W, Q) ((Q) ? (uint32_t *)((char *)(node) + offsetof(wide8q_node, child)) : WIDE_CHILD(node, W))
+#define WIDE_COUNT_Q(node, W, Q) ((Q) ? (uint8_t *)((char *)(node) + offsetof(wide8q_node, count)) : WIDE_COUNT(node, W))
+#define WIDE_NCHILDREN_Q(node, W, Q) ((Q) ? ((wide8q_node *)(node))->nchildren : WIDE_NCHILDREN(node, W))
+#define WIDE_ORDER_Q(node, W, Q, oct)                                                                                 \
+    ((Q) ? ((const uint32_t *)((const char *)(node) + offsetof(wide8q_node, order)))[oct] : WIDE_ORDER(node, W, oct))
 /* The octants whose orders a node keeps: those of directions with x >= 0,
  * oct = (y < 0) | (z < 0) << 1. A ray with x < 0 walks the order of the
  * opposite octant backwards: the two orders are reverses of each other. */
@@ -183,6 +241,7 @@ typedef struct {
     uint32_t npackets;
     bool octant_order;  /* the closest-hit walk takes the children hit in the node's order for the ray's octant
                          * (order=octant), not sorted by entry distance (order=distance) */
+    bool quantized;     /* compress=on: nodes are wide8q_node (wide_quantize), width 8 */
     bool spatial;       /* built with spatial splits: a primitive may be in several leaves, each slot bounding the part
                          * of it that the leaf stands for (set by the caller after wide_collapse) */
 } wide_bvh;
@@ -224,6 +283,16 @@ void wide_set_orders(wide_bvh *w, uint32_t ni, uint32_t n);
  * (rtcBuildBVH with the settings of its BVH8Triangle4 scene builder,
  * wide_embree.c), on that many threads. 0, or -1 with the reason in err. */
 int wide_build_embree(wide_bvh *w, const box3 *boxes, uint32_t n, uint32_t threads, char *err, size_t errlen);
+/* compress=on: w's 8-wide nodes replaced by quantised ones (wide8q_node),
+ * w->quantized set. 0; -1 out of memory, or (the reason in err) a node
+ * whose box no scale up to 2^(WIDE_Q_MAX_EXP - 127) spans (a scene wider
+ * than about FLT_MAX); w unchanged on failure. */
+int wide_quantize(wide_bvh *w, char *err, size_t errlen);
+/* The node orders per octant (WIDE_ORDER) of n slots with these boxes, in
+ * a node of width W (collapse.c). */
+void wide_orders_of(const box3 *box, uint32_t n, uint32_t W, uint32_t order[WIDE_OCTANTS]);
+/* Slot k's box in node ni, decoded if w->quantized. */
+box3 wide_node_slot_box(const wide_bvh *w, uint32_t ni, uint32_t k);
 /* Packets wide_pack_leaves would make: ceil(count / 4) for every leaf whose
  * primitives are all triangles. */
 uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p);
@@ -276,6 +345,8 @@ typedef struct {
  * wide_isa_running(isa, width)); NULL when this build has none for it (a
  * non-x86 target: only scalar). */
 const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width);
+/* The kernels of isa for quantised BVH8 nodes (compress=on). */
+const wide_kernels *wide_kernels_quantized(wide_isa isa);
 
 /* Per ISA, [0] width 4, [1] width 8, [2] width 2 (scalar and sse42 only)
  * (wide_traverse_*.c). */
@@ -284,6 +355,11 @@ extern const wide_kernels wide_kernels_scalar[3];
 extern const wide_kernels wide_kernels_sse42[3];
 extern const wide_kernels wide_kernels_avx2[2];
 extern const wide_kernels wide_kernels_avx512[2];
+#endif
+/* Per ISA the quantised BVH8 kernels (compress=on). */
+extern const wide_kernels wide_kernels_scalar_q;
+#if defined(__x86_64__) || defined(__i386__)
+extern const wide_kernels wide_kernels_sse42_q, wide_kernels_avx2_q, wide_kernels_avx512_q;
 #endif
 
 #ifdef __cplusplus

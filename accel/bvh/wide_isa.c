@@ -46,3 +46,16 @@ const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width)
     default: return NULL;
     }
 }
+
+const wide_kernels *wide_kernels_quantized(wide_isa isa)
+{
+    switch (isa) {
+    case WIDE_ISA_SCALAR: return &wide_kernels_scalar_q;
+#if defined(__x86_64__) || defined(__i386__)
+    case WIDE_ISA_SSE42: return &wide_kernels_sse42_q;
+    case WIDE_ISA_AVX2: return &wide_kernels_avx2_q;
+    case WIDE_ISA_AVX512: return &wide_kernels_avx512_q;
+#endif
+    default: return NULL;
+    }
+}

@@ -10,14 +10,14 @@
 /* Slot k of node i: its child word and its count. */
 static uint32_t *slot_child(wide_bvh *w, uint32_t i, uint32_t k, uint32_t *count)
 {
-    char *n = (char *)w->nodes + (size_t)i * WIDE_NODE_BYTES(w->width);
-    *count = WIDE_COUNT(n, w->width)[k];
-    return &WIDE_CHILD(n, w->width)[k];
+    char *n = WIDE_NODE_AT(w->nodes, i, w->width, w->quantized);
+    *count = WIDE_COUNT_Q(n, w->width, w->quantized)[k];
+    return &WIDE_CHILD_Q(n, w->width, w->quantized)[k];
 }
 
 static uint32_t node_children(const wide_bvh *w, uint32_t i)
 {
-    return WIDE_NCHILDREN((char *)w->nodes + (size_t)i * WIDE_NODE_BYTES(w->width), w->width);
+    return WIDE_NCHILDREN_Q(WIDE_NODE_AT(w->nodes, i, w->width, w->quantized), w->width, w->quantized);
 }
 
 uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p)

@@ -45,8 +45,9 @@
  * "a <= z" alone is slab_clip's "a <= z, a < inf, z > -inf" (one
  * comparison per slot instead of three; test_champion's overflow test).
  * The SIMD kernels give the scalar one's distances bit for bit (no
- * contraction: the build has -ffp-contract=off and the kernels use no FMA
- * intrinsics).
+ * contraction: the build has -ffp-contract=off, and the one FMA intrinsic,
+ * compress=on's decoding of a plane as origin + q * scale, rounds as the
+ * scalar multiply and add do because that product is exact).
  *
  * Counters: box_tests = child boxes tested (the used slots of every node
  * visited), steps = nodes visited plus leaves tested; prim_tests and
@@ -144,6 +145,28 @@ WIDE_FN unsigned wide_box_scalar(const wide_ray *r, const float *rows, const uin
     return mask;
 }
 
+/* The reference kernel on a quantised node (compress=on): each plane
+ * decoded (wide_q_plane), then the test above; the unused slots, which
+ * decode to a box at the origin, masked off. */
+WIDE_FN unsigned wide_box_scalar_q(const wide_ray *r, const wide8q_node *nd, float t0, float t1, float *tn)
+{
+    unsigned mask = 0;
+    for (uint32_t k = 0; k < 8; k++) {
+        float a = t0, z = t1;
+        for (uint32_t ax = 0; ax < 3; ax++) {
+            const float near = wide_q_plane(nd->origin[ax], nd->q[r->near[ax]][k], nd->scale_exp[ax]);
+            const float far = wide_q_plane(nd->origin[ax], nd->q[r->far[ax]][k], nd->scale_exp[ax]);
+            float n = (near - r->org[ax]) * r->inv[ax];
+            float f = (far - r->org[ax]) * r->inv_far[ax];
+            if (n > a) a = n;
+            if (f < z) z = f;
+        }
+        tn[k] = a;
+        if (a <= z) mask |= 1u << k;
+    }
+    return mask & ((1u << nd->nchildren) - 1);
+}
+
 WIDE_FN bool wide_leaf(const wide_bvh *w, const prims_t *p, const wide_ray *r, uint32_t child, uint32_t count,
                        const ray_t *ray, hit_t *hit, counters_t *c, const bool shadow, const bool counting)
 {
@@ -163,11 +186,11 @@ WIDE_FN bool wide_leaf(const wide_bvh *w, const prims_t *p, const wide_ray *r, u
  * branch on the mask; the stack has WIDE_STACK_SLACK entries beyond its
  * capacity for it). */
 WIDE_FN uint32_t wide_push_octant(const wide_ray *r, const char *node, unsigned mask, const float *tn,
-                                  wide_entry *stack, uint32_t sp, const uint32_t W)
+                                  wide_entry *stack, uint32_t sp, const uint32_t W, const bool Q)
 {
-    const uint32_t perm = WIDE_ORDER(node, W, r->oct);
-    const uint32_t *child = WIDE_CHILD(node, W);
-    const uint8_t *count = WIDE_COUNT(node, W);
+    const uint32_t perm = WIDE_ORDER_Q(node, W, Q, r->oct);
+    const uint32_t *child = WIDE_CHILD_Q(node, W, Q);
+    const uint8_t *count = WIDE_COUNT_Q(node, W, Q);
     for (uint32_t i = 0; i < W; i++) {
         uint32_t k = (perm >> 3 * (r->backwards ? i : W - 1 - i)) & 7;
         stack[sp] = (wide_entry){child[k], count[k], tn[k]};
@@ -182,13 +205,13 @@ WIDE_FN uint32_t wide_push_octant(const wide_ray *r, const char *node, unsigned 
  * its first load). Measured on the bunny, 3 x 11 pairs on a loaded
  * machine: median ratios 1.18/1.48/1.67 against 1.26/1.57/1.67 without
  * (primary/shadow/random), a small gain at most. */
-WIDE_FN void wide_prefetch(const wide_bvh *w, uint32_t ch, const uint32_t W)
+WIDE_FN void wide_prefetch(const wide_bvh *w, uint32_t ch, const uint32_t W, const bool Q)
 {
     if (!(ch & WIDE_LEAF)) {
-        const char *nb = (const char *)w->nodes + (size_t)ch * WIDE_NODE_BYTES(W);
+        const char *nb = WIDE_NODE_AT(w->nodes, ch, W, Q);
         __builtin_prefetch(nb);
         if (W >= 4) __builtin_prefetch(nb + 64);
-        if (W == 8) __builtin_prefetch(nb + 128);
+        if (W == 8 && !Q) __builtin_prefetch(nb + 128);
     } else if (ch & WIDE_PACKED) {
         const char *pb = (const char *)(w->packets + (ch & WIDE_INDEX));
         __builtin_prefetch(pb);
@@ -202,8 +225,8 @@ WIDE_FN void wide_prefetch(const wide_bvh *w, uint32_t ch, const uint32_t W)
  * tree's order tested per node the default walk was 8 % slower on Sponza's
  * primary rays, 2-5 % without). */
 WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray,
-                               hit_t *hit, counters_t *c, const uint32_t W, const wide_box_fn box, const bool shadow,
-                               const bool counting, const bool octant)
+                               hit_t *hit, counters_t *c, const uint32_t W, const bool Q, const wide_box_fn box,
+                               const bool shadow, const bool counting, const bool octant)
 {
     wide_ray r;
     if (!w->nnodes || !wide_ray_init(&r, ray)) return false;
@@ -212,10 +235,10 @@ WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *
     bool occluded = false;
     for (;;) {
         /* Visit node cur: all its children's boxes at once. */
-        const char *node = (const char *)w->nodes + (size_t)cur * WIDE_NODE_BYTES(W);
-        const uint32_t *child = WIDE_CHILD(node, W);
-        const uint8_t *count = WIDE_COUNT(node, W);
-        const uint32_t nch = WIDE_NCHILDREN(node, W);
+        const char *node = WIDE_NODE_AT(w->nodes, cur, W, Q);
+        const uint32_t *child = WIDE_CHILD_Q(node, W, Q);
+        const uint8_t *count = WIDE_COUNT_Q(node, W, Q);
+        const uint32_t nch = WIDE_NCHILDREN_Q(node, W, Q);
         nsteps++;
         nbox += nch;
         float tn[8] __attribute__((aligned(32)));
@@ -236,7 +259,7 @@ WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *
                 cur = child[__builtin_ctz(mask)];
                 continue;
             }
-            sp = wide_push_octant(&r, node, mask, tn, stack, sp, W);
+            sp = wide_push_octant(&r, node, mask, tn, stack, sp, W, Q);
         } else {
             /* order=distance: the children hit, nearest first (ties by
              * slot; any hit: slot order, unsorted, as Embree's any-hit
@@ -260,7 +283,7 @@ WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *
                     const uint32_t k1 = (uint32_t)__builtin_ctz(rest);
                     const bool swap = !shadow && tn[k0] > tn[k1];
                     const uint32_t near = swap ? k1 : k0, far = swap ? k0 : k1;
-                    wide_prefetch(w, child[far], W);
+                    wide_prefetch(w, child[far], W, Q);
                     stack[sp++] = (wide_entry){child[far], count[far], tn[far]};
                     if (!(child[near] & WIDE_LEAF)) {
                         cur = child[near];
@@ -277,7 +300,7 @@ WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *
                     }
                     uint32_t last = !(child[ord[0]] & WIDE_LEAF) ? 1 : 0;
                     for (uint32_t i = m; i-- > last;) {
-                        wide_prefetch(w, child[ord[i]], W);
+                        wide_prefetch(w, child[ord[i]], W, Q);
                         stack[sp++] = (wide_entry){child[ord[i]], count[ord[i]], tn[ord[i]]};
                     }
                     if (last) {
@@ -314,36 +337,39 @@ done:
 }
 
 WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit,
-                       counters_t *c, const uint32_t W, const wide_box_fn box, const bool shadow, const bool counting)
+                       counters_t *c, const uint32_t W, const bool Q, const wide_box_fn box, const bool shadow,
+                       const bool counting)
 {
-    if (!shadow && w->octant_order) return wide_walk_ordered(w, p, stack, ray, hit, c, W, box, false, counting, true);
-    return wide_walk_ordered(w, p, stack, ray, hit, c, W, box, shadow, counting, false);
+    if (!shadow && w->octant_order) return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, box, false, counting, true);
+    return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, box, shadow, counting, false);
 }
 
-/* The four entry points of width W with kernel BOX, as functions named
- * PREFIX_intersect etc. and a wide_kernels initialiser. */
-#define WIDE_ENTRY_POINTS(PREFIX, W, BOX)                                                                              \
+/* The four entry points of width W with kernel BOX (Q: on quantised
+ * nodes), as functions named PREFIX_intersect etc. and a wide_kernels
+ * initialiser. */
+#define WIDE_ENTRY_POINTS(PREFIX, W, BOX) WIDE_ENTRY_POINTS_Q(PREFIX, W, false, BOX)
+#define WIDE_ENTRY_POINTS_Q(PREFIX, W, Q, BOX)                                                                              \
     WIDE_TARGET static bool PREFIX##_intersect(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray, \
                                                hit_t *hit, counters_t *c)                                              \
     {                                                                                                                  \
-        return wide_walk(w, p, st, ray, hit, c, W, BOX, false, true);                                                  \
+        return wide_walk(w, p, st, ray, hit, c, W, Q, BOX, false, true);                                                  \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_occluded(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray,  \
                                               counters_t *c)                                                           \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
-        return wide_walk(w, p, st, ray, &none, c, W, BOX, true, true);                                                 \
+        return wide_walk(w, p, st, ray, &none, c, W, Q, BOX, true, true);                                                 \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_intersect_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,              \
                                                     const ray_t *ray, hit_t *hit)                                      \
     {                                                                                                                  \
-        return wide_walk(w, p, st, ray, hit, NULL, W, BOX, false, false);                                              \
+        return wide_walk(w, p, st, ray, hit, NULL, W, Q, BOX, false, false);                                              \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_occluded_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,               \
                                                    const ray_t *ray)                                                   \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
-        return wide_walk(w, p, st, ray, &none, NULL, W, BOX, true, false);                                             \
+        return wide_walk(w, p, st, ray, &none, NULL, W, Q, BOX, true, false);                                             \
     }
 #define WIDE_KERNELS(PREFIX) {PREFIX##_intersect, PREFIX##_occluded, PREFIX##_intersect_fast, PREFIX##_occluded_fast}
 
