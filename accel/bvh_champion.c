@@ -29,7 +29,10 @@
  *     Packets: Efficient SIMD Single-Ray Traversal using Multi-branching
  *     BVHs", IEEE RT 2008;
  *   - robust box tests: T. Ize, "Robust BVH Ray Traversal", JCGT 2(2),
- *     2013, through accel/common/slab.h's arithmetic (wide_walk.h);
+ *     2013, through accel/common/slab.h's arithmetic (fma=off), or with one
+ *     fused multiply-add a plane and directed per-ray constants (fma=on,
+ *     wide_walk.h: Ize's argument, rounding in the constants instead of a
+ *     far scale);
  *   - order=octant: children ordered per ray octant, H. Ylitie, T. Karras,
  *     S. Laine, "Efficient Incoherent Ray Traversal on GPUs Through
  *     Compressed Wide BVHs", HPG 2017 (s3.2), kept as a permutation per
@@ -159,6 +162,28 @@
  *                 leafsize, minleaf, bigleaf, slots and travcost settings
  *                 do not apply; its build time is Embree's builder's plus
  *                 the copy into our nodes.
+ *   fma=auto      the box test's arithmetic (accel/bvh/wide_walk.h).
+ *                 off: slab_clip_robust's, per plane the origin
+ *                 subtracted and the difference multiplied by the
+ *                 reciprocal, the far one scaled by 1 + 2^-21 (Ize 2013) |
+ *                 on: one fused multiply-add a plane, plane * m - c, with
+ *                 per-ray constants rounded in the directions that keep the
+ *                 test conservative without a scale (wide_fused_init; the
+ *                 argument is Ize's, the constants are this testbed's) |
+ *                 auto: on where the kernels that run have FMA (AVX2,
+ *                 AVX-512 at width 4 and 8), off for scalar and SSE4.2.
+ *                 fma=on is refused under isa=sse42 and at width=2 (both
+ *                 run the SSE4.2 kernel, which has no FMA); the scalar
+ *                 reference computes it with fmaf, bit for bit. The hits
+ *                 are the same either way (the boxes only steer the walk);
+ *                 on's intervals are a little looser (tests per ray up to
+ *                 0.8 % more, on Sponza's random rays). Measured
+ *                 2026-12-05 (1 thread, AVX-512, Sponza, the bunny,
+ *                 spd:balls:4:t x primary, shadow, diffuse, random,
+ *                 256x256, 3 processes of each build interleaved, each cell
+ *                 paired with Embree): trace time 0.970 of off's in
+ *                 geometric mean, 0.89-1.02 per cell; with off's constants
+ *                 in fused form (not conservative, for scale) it was 0.964.
  *   compress=off  on: the 8-wide nodes quantised after the build (accel/
  *                 bvh/wide_quantize.c, Ylitie, Karras, Laine, HPG 2017,
  *                 section 3.1: each child plane a byte of power-of-two
@@ -230,6 +255,8 @@ static const accel_param champ_params[] = {
     {"isa", "auto", "box kernels: auto (the best this CPU has) | scalar | sse42 | avx2 | avx512"},
     {"tree", "own", "own: the builds above | embree: Embree's own builder's 8-wide tree (rtcBuildBVH), our kernels over "
                     "it (a diagnostic: width=8, split=object only)"},
+    {"fma", "auto", "box test: on: one fused multiply-add a plane with directed per-ray constants | off: subtract, "
+                    "multiply (Ize's scaled far reciprocal) | auto: on where the kernels have FMA (AVX2, AVX-512)"},
     {"compress", "off", "on: 8-wide nodes of 128 bytes, child boxes as 8-bit planes (Ylitie et al. 2017) | off: 256, "
                         "float planes"},
     {"memcap", "4096", "MiB: refuse a build whose scratch and nodes exceed it"},
@@ -277,6 +304,9 @@ static uint64_t collapse_bytes(const bvh_t *b, uint64_t wide_nodes, uint32_t wid
     return memcap_add(bin, memcap_mul(wide_nodes, wide_node_bytes(width)));
 }
 
+/* fma=auto: on where the kernels that run have FMA instructions. */
+static bool fma_by_default(wide_isa running) { return running == WIDE_ISA_AVX2 || running == WIDE_ISA_AVX512; }
+
 static int parse_isa(const accel_params *params, wide_isa *isa, char *err, size_t errlen)
 {
     static const char *const names[] = {"auto", "scalar", "sse42", "avx2", "avx512", NULL};
@@ -288,7 +318,7 @@ static int parse_isa(const accel_params *params, wide_isa *isa, char *err, size_
         return 0;
     }
     *isa = (wide_isa)(choice - 1);
-    if (!wide_isa_supported(*isa) || !wide_kernels_for(*isa, 8)) {
+    if (!wide_isa_supported(*isa) || !wide_kernels_for(*isa, 8, false, false)) {
         snprintf(err, errlen, "isa=%s: this CPU lacks %s; isa=auto picks the best it has (%s)", names[choice],
                  needs[choice], wide_isa_names[wide_isa_best()]);
         return -1;
@@ -309,8 +339,8 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     static const char *const widths[] = {"2", "4", "8", NULL}, *const onoff[] = {"off", "on", NULL};
     static const char *const splits[] = {"object", "sbvh", NULL}, *const binnings[] = {"split", "clip", NULL};
     static const char *const orders[] = {"distance", "octant", NULL}, *const trees[] = {"own", "embree", NULL};
-    static const char *const slot_orders[] = {"split", "size", NULL};
-    int by_size, embree_tree, wsel, packets, sbvh, exact_bins, octant, small_bins, compress;
+    static const char *const slot_orders[] = {"split", "size", NULL}, *const fma_choices[] = {"off", "on", "auto", NULL};
+    int by_size, embree_tree, wsel, packets, sbvh, exact_bins, octant, small_bins, compress, fma;
     long bins, leafsize, memcap, minleaf, bigleaf;
     double travcost, alpha;
     wide_isa isa;
@@ -329,6 +359,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
         params_get_choice(params, "packets", onoff, &packets, err, errlen) || parse_isa(params, &isa, err, errlen) ||
         params_get_choice(params, "tree", trees, &embree_tree, err, errlen) ||
         params_get_choice(params, "compress", onoff, &compress, err, errlen) ||
+        params_get_choice(params, "fma", fma_choices, &fma, err, errlen) ||
         params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
         return NULL;
     const uint32_t width = 2u << wsel;
@@ -358,7 +389,13 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     t->base.scene = scene;
     t->p = p;
     t->isa = wide_isa_running(isa, width); /* the kernel that runs */
-    t->k = compress ? wide_kernels_quantized(isa) : wide_kernels_for(isa, width);
+    const bool fused = fma == 2 ? fma_by_default(wide_isa_running(isa, width)) : fma == 1;
+    t->k = wide_kernels_for(isa, width, compress, fused);
+    if (!t->k) {
+        snprintf(err, errlen, "bvh fma=on: the SSE4.2 kernels (isa=sse42, and every ISA at width=2) have no fused "
+                              "multiply-add");
+        goto fail;
+    }
 
     /* The kit's binary tree over the primitives' boxes. */
     for (uint32_t id = 0; id < n; id++) boxes[id] = prim_bounds(p, id);
@@ -468,6 +505,7 @@ static void champ_settle_params(accel_params *params)
     /* split=sbvh bins every node into `bins` (champ_build): say so. */
     for (int i = 0; sbvh && i < params->count; i++)
         if (!strcmp(params->table[i].name, "smallbins")) snprintf(params->values[i], sizeof params->values[i], "off");
+    wide_isa running = WIDE_ISA_COUNT;
     for (int i = 0; i < params->count; i++) {
         if (strcmp(params->table[i].name, "isa")) continue;
         if (!strcmp(params->values[i], "auto"))
@@ -475,8 +513,12 @@ static void champ_settle_params(accel_params *params)
         for (int k = 0; k < WIDE_ISA_COUNT; k++) /* an ISA this CPU lacks stays, for build() to refuse */
             if (!strcmp(params->values[i], wide_isa_names[k]) && wide_isa_supported((wide_isa)k))
                 snprintf(params->values[i], sizeof params->values[i], "%s",
-                         wide_isa_names[wide_isa_running((wide_isa)k, width)]);
+                         wide_isa_names[running = wide_isa_running((wide_isa)k, width)]);
     }
+    /* fma=auto: as build() resolves it for the kernels that run */
+    for (int i = 0; running < WIDE_ISA_COUNT && i < params->count; i++)
+        if (!strcmp(params->table[i].name, "fma") && !strcmp(params->values[i], "auto"))
+            snprintf(params->values[i], sizeof params->values[i], "%s", fma_by_default(running) ? "on" : "off");
 }
 
 /* -------------------------------------------------------------- context */
@@ -560,7 +602,7 @@ const wide_bvh *bvh_champion_tree(const accel *a, wide_isa *isa)
 /* Every width with every instruction set this CPU has (the conformance
  * suite cannot skip a variant that this machine refuses, so the list is
  * made at start-up from the CPU), and the leaf and bin settings. */
-static const char *champ_variants[2 * WIDE_ISA_COUNT + 18];
+static const char *champ_variants[2 * WIDE_ISA_COUNT + 20];
 __attribute__((constructor)) static void champ_fill_variants(void)
 {
     static const char *const all[2][WIDE_ISA_COUNT] = {
@@ -570,7 +612,8 @@ __attribute__((constructor)) static void champ_fill_variants(void)
     int n = 0;
     for (int w = 0; w < 2; w++)
         for (int i = 0; i < WIDE_ISA_COUNT; i++)
-            if (wide_isa_supported((wide_isa)i) && wide_kernels_for((wide_isa)i, 8)) champ_variants[n++] = all[w][i];
+            if (wide_isa_supported((wide_isa)i) && wide_kernels_for((wide_isa)i, 8, false, false))
+                champ_variants[n++] = all[w][i];
     champ_variants[n++] = "width=2,isa=scalar";
     if (wide_isa_supported(WIDE_ISA_SSE42)) champ_variants[n++] = "width=2,isa=sse42";
     champ_variants[n++] = "leafsize=1,width=4";
@@ -581,6 +624,8 @@ __attribute__((constructor)) static void champ_fill_variants(void)
     champ_variants[n++] = "order=octant,width=4,isa=scalar";
     champ_variants[n++] = "minleaf=4,bigleaf=28,travcost=4,slots=size";
     champ_variants[n++] = "tree=embree";
+    champ_variants[n++] = "fma=off";
+    champ_variants[n++] = "fma=on,isa=scalar";
     champ_variants[n++] = "compress=on";
     champ_variants[n++] = "compress=on,isa=scalar";
     if (wide_isa_supported(WIDE_ISA_SSE42)) champ_variants[n++] = "compress=on,isa=sse42";

@@ -2,7 +2,8 @@
  * accel/bvh/wide*.{h,c}, collapse.c) beyond the conformance suite.
  *
  *   simd        every instruction set this CPU has, at width 2, 4 and 8,
- *               against the scalar reference traversal of the same tree:
+ *               with fma=off and (but SSE4.2) fma=on, against the scalar
+ *               reference traversal of the same tree and fma setting:
  *               ray for ray on every workload of spd:balls:2, spd:tree:2,
  *               bunny and gen:room, bit-identical hits (t, u, v, prim) or
  *               occlusion and identical counters, and the same on
@@ -17,8 +18,12 @@
  *   leafsize=1  the same answers check with one primitive a leaf
  *   single      one triangle, one sphere: a root with one leaf child
  *   overflow    a box whose entry and exit distances are both +inf under
- *               tfar = +inf is a miss on every width and ISA (the kernels'
- *               one comparison, wide_walk.h)
+ *               tfar = +inf is a miss on every width, ISA and fma setting
+ *               (the kernels' one comparison, wide_walk.h)
+ *   conservative the box test under fma=off and fma=on: a thin box around a
+ *               point of the exact ray (flat along an axis the ray does not
+ *               move on) is always hit, empty slots never, over 300000
+ *               rays with +-0 and tiny components
  *   one point   2000 spheres with one centre and radius and 2000
  *               triangles collapsed to one point: the builder splits by
  *               count, the tree stays shallow, answers match exhaustive
@@ -50,9 +55,11 @@
  *               answers as exhaustive's on the bunny, 128 bytes a node
  *               saved; wide_check refusing a shrunk quantised slot;
  *               width=4 refused
- *   refusals    width=5, isa=neon, leafsize=0, bins=1; an ISA the CPU lacks
- *   settle      isa=auto settles to the ISA build() picks; smallbins to off
- *               under split=sbvh */
+ *   refusals    width=5, isa=neon, leafsize=0, bins=1; an ISA the CPU lacks;
+ *               fma=on where the SSE4.2 kernel runs (isa=sse42, width=2)
+ *   settle      isa=auto settles to the ISA build() picks, fma=auto to on
+ *               under AVX2 and AVX-512 and off under scalar; smallbins to
+ *               off under split=sbvh */
 #include <math.h>
 #include <string.h>
 #include "accel/bvh_champion.h"
@@ -173,41 +180,47 @@ static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char 
     for (int w = 0; workload_table[w].name && nsets < 16; w++) sets[nsets++] = workload_table[w].make(s, embree, &o);
     uint32_t naxis;
     ray_t *axis = axis_rays(s, &naxis);
-    for (int width = first_width; width <= 8; width *= 2) {
-        char cfg[128];
-        snprintf(cfg, sizeof cfg, "width=%d,isa=scalar%s", width, extra);
-        accel *ref = champ_with(s, cfg);
-        check_tree(ref, cfg);
-        for (int isa = WIDE_ISA_SSE42; isa < WIDE_ISA_COUNT; isa++) {
-            if (!wide_isa_supported((wide_isa)isa)) {
-                printf("%-12s width=%d isa=%-7s skipped: this CPU lacks it\n", s->name, width, wide_isa_names[isa]);
-                continue;
+    for (int width = first_width; width <= 8; width *= 2)
+        for (int fused = 0; fused < 2; fused++) {
+            if (fused && width == 2) continue; /* width 2 runs the SSE4.2 kernel, which has no fma */
+            const char *fma = fused ? "on" : "off";
+            char cfg[160];
+            snprintf(cfg, sizeof cfg, "width=%d,isa=scalar,fma=%s%s", width, fma, extra);
+            accel *ref = champ_with(s, cfg);
+            check_tree(ref, cfg);
+            for (int isa = WIDE_ISA_SSE42; isa < WIDE_ISA_COUNT; isa++) {
+                if (!wide_isa_supported((wide_isa)isa)) {
+                    printf("%-12s width=%d isa=%-7s skipped: this CPU lacks it\n", s->name, width, wide_isa_names[isa]);
+                    continue;
+                }
+                if (fused && isa == WIDE_ISA_SSE42) continue; /* refused: test_refusals */
+                snprintf(cfg, sizeof cfg, "width=%d,isa=%s,fma=%s%s", width, wide_isa_names[isa], fma, extra);
+                accel *a = champ_with(s, cfg);
+                wide_isa got;
+                bvh_champion_tree(a, &got);
+                wide_isa want = width == 2 ? WIDE_ISA_SSE42 : (wide_isa)isa; /* BVH2: one SSE4.2 kernel for all */
+                CHECK_MSG(got == want, "%s: kernels of %s", cfg, wide_isa_names[got]);
+                int before = check_failed;
+                uint64_t rays = 0;
+                for (int k = 0; k < nsets; k++) rays += compare_rays(ref, a, sets[k], cfg, workload_table[k].name);
+                rays += compare_ray_array(ref, a, axis, naxis, false, cfg, "axis rays, closest") +
+                        compare_ray_array(ref, a, axis, naxis, true, cfg, "axis rays, any");
+                printf("%-12s %-48s %8llu rays over %d workloads and axis rays %s\n", s->name, cfg,
+                       (unsigned long long)rays, nsets, check_failed == before ? "bit-identical to scalar" : "DIFFER");
+                a->ops->destroy(a);
             }
-            snprintf(cfg, sizeof cfg, "width=%d,isa=%s%s", width, wide_isa_names[isa], extra);
-            accel *a = champ_with(s, cfg);
-            wide_isa got;
-            bvh_champion_tree(a, &got);
-            wide_isa want = width == 2 ? WIDE_ISA_SSE42 : (wide_isa)isa; /* BVH2: one SSE4.2 kernel for all */
-            CHECK_MSG(got == want, "%s: kernels of %s", cfg, wide_isa_names[got]);
-            int before = check_failed;
-            uint64_t rays = 0;
-            for (int k = 0; k < nsets; k++) rays += compare_rays(ref, a, sets[k], cfg, workload_table[k].name);
-            rays += compare_ray_array(ref, a, axis, naxis, false, cfg, "axis rays, closest") +
-                    compare_ray_array(ref, a, axis, naxis, true, cfg, "axis rays, any");
-            printf("%-12s %-40s %8llu rays over %d workloads and axis rays %s\n", s->name, cfg, (unsigned long long)rays, nsets,
-                   check_failed == before ? "bit-identical to scalar" : "DIFFER");
-            a->ops->destroy(a);
+            if (!fused) {
+                /* Leaves through refs instead of packets: the same answers and counters. */
+                snprintf(cfg, sizeof cfg, "width=%d,isa=scalar,fma=off,packets=off%s", width, extra);
+                accel *a = champ_with(s, cfg);
+                check_tree(a, cfg);
+                int before = check_failed;
+                for (int k = 0; k < nsets; k++) compare_rays(ref, a, sets[k], cfg, workload_table[k].name);
+                printf("%-12s %-48s %s\n", s->name, cfg, check_failed == before ? "bit-identical to packets=on" : "DIFFER");
+                a->ops->destroy(a);
+            }
+            ref->ops->destroy(ref);
         }
-        /* Leaves through refs instead of packets: the same answers and counters. */
-        snprintf(cfg, sizeof cfg, "width=%d,isa=scalar,packets=off%s", width, extra);
-        accel *a = champ_with(s, cfg);
-        check_tree(a, cfg);
-        int before = check_failed;
-        for (int k = 0; k < nsets; k++) compare_rays(ref, a, sets[k], cfg, workload_table[k].name);
-        printf("%-12s %-40s %s\n", s->name, cfg, check_failed == before ? "bit-identical to packets=on" : "DIFFER");
-        a->ops->destroy(a);
-        ref->ops->destroy(ref);
-    }
     for (int k = 0; k < nsets; k++) rayset_free(sets[k]);
     free(axis);
 }
@@ -314,17 +327,20 @@ static void test_single(void)
  * 2^60 before the triangle, RAY_COORD_MAX, the farthest a traceable ray
  * may start; direction 1e-30) and that runs parallel to y outside the
  * box's y slab (entry and exit +inf there) meets the leaf's box with entry
- * +inf and exit +inf under tfar = +inf. Every width and ISA must count that box a
- * miss: one node visited, no primitive tested. */
+ * +inf and exit +inf under tfar = +inf. Every width and ISA must count that
+ * box a miss under fma=off: one node visited, no primitive tested; under
+ * fma=on the ray misses too, after one leaf (below). */
 static void test_overflowing_entry(void)
 {
     scene_t *s = one_triangle();
     for (int w = 2; w <= 16; w *= 2) /* 16: the quantised BVH8 */
-        for (int isa = WIDE_ISA_SCALAR; isa < WIDE_ISA_COUNT; isa++) {
-            if (!wide_isa_supported((wide_isa)isa)) continue;
+        for (int isa = WIDE_ISA_SCALAR; isa < WIDE_ISA_COUNT * 2; isa++) { /* from WIDE_ISA_COUNT: fma=on */
+            const bool fused = isa >= WIDE_ISA_COUNT;
+            const wide_isa i = (wide_isa)(isa % WIDE_ISA_COUNT);
+            if (!wide_isa_supported(i) || (fused && (w == 2 || i == WIDE_ISA_SSE42))) continue;
             char cfg[64];
-            snprintf(cfg, sizeof cfg, "width=%d,isa=%s%s", w == 16 ? 8 : w, wide_isa_names[isa],
-                     w == 16 ? ",compress=on" : "");
+            snprintf(cfg, sizeof cfg, "width=%d,isa=%s,fma=%s%s", w == 16 ? 8 : w, wide_isa_names[i],
+                     fused ? "on" : "off", w == 16 ? ",compress=on" : "");
             accel *x = champ_with(s, cfg);
             accel_ctx *ctx = x->ops->context_new(x);
             ray_t r = {v3(-0x1p60f, -5, 0), 0, v3(1e-30f, 0, 0), INFINITY, RAY_NO_LIGHT, 0};
@@ -332,16 +348,19 @@ static void test_overflowing_entry(void)
             hit_t h = hit_none(&r);
             counters_t cnt = {0};
             CHECK(!x->ops->intersect(x, ctx, &r, &h, &cnt));
-            CHECK_MSG(cnt.steps == 1 && cnt.prim_tests == 0, "[%s] entry +inf, exit +inf: %llu steps, %llu tests", cfg,
-                      (unsigned long long)cnt.steps, (unsigned long long)cnt.prim_tests);
+            /* fma=on: the y entry's constant o nmul overflows and is held at
+             * -FLT_MAX (wide_fused_init), so the entry is FLT_MAX, not +inf,
+             * and the box is taken: one leaf more, still a miss. */
+            const uint64_t steps = fused ? 2 : 1;
+            CHECK_MSG(cnt.steps == steps && cnt.prim_tests == steps - 1, "[%s] entry +inf, exit +inf: %llu steps, %llu tests",
+                      cfg, (unsigned long long)cnt.steps, (unsigned long long)cnt.prim_tests);
             counters_t any = {0};
             CHECK(!x->ops->occluded(x, ctx, &r, &any));
-            CHECK_MSG(any.steps == 1 && any.prim_tests == 0, "[%s] any hit: %llu steps", cfg,
-                      (unsigned long long)any.steps);
+            CHECK_MSG(any.steps == steps, "[%s] any hit: %llu steps", cfg, (unsigned long long)any.steps);
             x->ops->context_free(ctx);
             x->ops->destroy(x);
         }
-    printf("entry distance overflowing to +inf under tfar = +inf: a miss on every width and ISA\n");
+    printf("entry distance overflowing to +inf under tfar = +inf: a miss on every width, ISA and fma\n");
     scene_free(s);
 }
 
@@ -389,7 +408,9 @@ static void test_memcap(void)
     CHECK_MSG(!a && strstr(err, "memcap=64") && !strchr(err, '\n'), "memcap=64 over 10^6 triangles: %s", a ? "built" : err);
     printf("million      memcap=64 refused: %s\n", err);
     if (a) a->ops->destroy(a);
-    accel *ref = champ_with(s, "isa=scalar"), *best = champ_with(s, "");
+    const wide_isa isa = wide_isa_best(); /* the defaults' kernels, and their fma setting for the reference */
+    accel *ref = champ_with(s, isa == WIDE_ISA_AVX2 || isa == WIDE_ISA_AVX512 ? "isa=scalar,fma=on" : "isa=scalar"),
+          *best = champ_with(s, "");
     check_tree(best, "million");
     size_t mem = best->ops->memory(best);
     printf("million      built: %zu bytes (%.1f per triangle)\n", mem, (double)mem / s->prims.count);
@@ -504,6 +525,24 @@ static void test_refusals(void)
         CHECK(got == WIDE_ISA_SSE42);
         a->ops->destroy(a);
     }
+    /* fma=on refused where the SSE4.2 kernel runs; fma=auto settles to what build() runs. */
+    const char *no_fma[] = {"fma=on,isa=sse42", "fma=on,width=2"};
+    for (int i = 0; i < 2 && wide_isa_supported(WIDE_ISA_SSE42); i++) {
+        char err[512] = "";
+        a = test_build_with(accel_find("bvh"), s, no_fma[i], 1, err, sizeof err);
+        CHECK_MSG(!a && strstr(err, "fma=on") && strstr(err, "SSE4.2") && !strchr(err, '\n'), "%s: %s", no_fma[i],
+                  a ? "built" : err);
+        if (a) a->ops->destroy(a);
+    }
+    params_defaults(&p, accel_find("bvh")->params);
+    accel_settle_params(accel_find("bvh"), &p);
+    const wide_isa best = wide_isa_best();
+    CHECK_MSG(!strcmp(params_get(&p, "fma"), best == WIDE_ISA_AVX2 || best == WIDE_ISA_AVX512 ? "on" : "off"),
+              "fma=auto settles to %s under isa=%s", params_get(&p, "fma"), wide_isa_names[best]);
+    char ferr[256];
+    CHECK(params_set(&p, "isa", "scalar", ferr, sizeof ferr) == 0 && params_set(&p, "fma", "auto", ferr, sizeof ferr) == 0);
+    accel_settle_params(accel_find("bvh"), &p);
+    CHECK_MSG(!strcmp(params_get(&p, "fma"), "off"), "fma=auto settles to %s under isa=scalar", params_get(&p, "fma"));
     /* smallbins: on by default, settled to off under split=sbvh, which bins every node into `bins`. */
     params_defaults(&p, accel_find("bvh")->params);
     accel_settle_params(accel_find("bvh"), &p);
@@ -597,6 +636,71 @@ static void test_embree_rules(void)
         if (r) r->ops->destroy(r);
     }
     scene_free(s);
+}
+
+/* A double rounded to the float below or above it. */
+static float float_below(double x)
+{
+    float f = (float)x;
+    return (double)f > x ? nextafterf(f, -INFINITY) : f;
+}
+static float float_above(double x)
+{
+    float f = (float)x;
+    return (double)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+/* The box test is conservative under both arithmetics (wide_walk.h): a box
+ * around a point the exact ray passes, thin (its planes the floats next
+ * to the point, computed in double with room for the double's rounding)
+ * or flat on an axis along which the ray does not move (its planes the
+ * origin's coordinate), is always hit, and the empty slots beside it
+ * never; rays from 1e-3 to 1e6 in scale, with components of 1e-30, +0
+ * and -0, tnear 0 or not, tfar finite or not. */
+static void test_box_conservative(void)
+{
+    uint64_t seed = 777;
+    uint32_t missed[2] = {0, 0}, empty_hit = 0, n = 0;
+    for (int trial = 0; trial < 300000; trial++) {
+        double u[8];
+        for (int i = 0; i < 8; i++) {
+            seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+            u[i] = (double)(seed >> 11) * 0x1p-53; /* [0, 1) */
+        }
+        const float scale = powf(10.0f, (float)(trial % 10) - 3.0f);
+        float o[3], d[3];
+        for (int ax = 0; ax < 3; ax++) {
+            o[ax] = scale * (float)(2.0 * u[ax] - 1.0);
+            d[ax] = (float)(2.0 * u[3 + ax] - 1.0);
+            const int kind = (trial / 10 + ax * 7) % 13; /* some components +0, -0 or tiny */
+            if (kind == 0) d[ax] = 0.0f;
+            if (kind == 1) d[ax] = -0.0f;
+            if (kind == 2) d[ax] = d[ax] < 0 ? -1e-30f : 1e-30f;
+        }
+        if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f) d[0] = 1.0f;
+        const float tnear = trial % 3 ? 0.0f : (float)u[6] * scale, t = tnear + (float)u[7] * 4.0f * scale;
+        ray_t r = {v3(o[0], o[1], o[2]), tnear, v3(d[0], d[1], d[2]), trial % 2 ? INFINITY : t * 1.5f + 1.0f,
+                   RAY_NO_LIGHT, 0};
+        if (!ray_traceable(&r)) continue;
+        float lo[3], hi[3];
+        for (int ax = 0; ax < 3; ax++) {
+            const double x = (double)o[ax] + (double)t * (double)d[ax]; /* the exact point, to the double's rounding */
+            const double room = fabs(x) * 0x1p-50 + fabs((double)t * (double)d[ax]) * 0x1p-50;
+            lo[ax] = float_below(x - room);
+            hi[ax] = float_above(x + room);
+        }
+        const box3 b = {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+        for (int fused = 0; fused < 2; fused++) {
+            const unsigned m = wide_box_probe(&r, b, fused);
+            missed[fused] += !(m & 1);
+            empty_hit += (m & ~1u) != 0;
+        }
+        n++;
+    }
+    CHECK_MSG(missed[0] == 0 && missed[1] == 0 && empty_hit == 0,
+              "%u rays: boxes around their points missed %u (fma=off) and %u (fma=on) times, empty slots hit %u", n,
+              missed[0], missed[1], empty_hit);
+    printf("box test: %u rays, each hits a thin box around one of its points under fma=off and fma=on\n", n);
 }
 
 /* A quantised node of these boxes: every decoded slot contains its box and
@@ -700,6 +804,7 @@ int main(void)
     test_refusals();
     test_single();
     test_overflowing_entry();
+    test_box_conservative();
     test_one_point();
     test_simd();
     test_memcap();

@@ -32,30 +32,19 @@ wide_isa wide_isa_running(wide_isa isa, uint32_t width)
     return width == 2 && isa != WIDE_ISA_SCALAR && isa < WIDE_ISA_COUNT ? WIDE_ISA_SSE42 : isa;
 }
 
-const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width)
+const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width, bool quantized, bool fused)
 {
-    int k = width == 8 ? 1 : width == 2 ? 2 : 0; /* the tables' order: width 4, 8, 2 */
-    isa = wide_isa_running(isa, width); /* at width 2: scalar or sse42, the tables that have it */
-    switch (isa) {
-    case WIDE_ISA_SCALAR: return &wide_kernels_scalar[k];
+    const int layout = quantized ? WIDE_LAYOUT_8Q : width == 8 ? WIDE_LAYOUT_8 : width == 4 ? WIDE_LAYOUT_4 : WIDE_LAYOUT_2;
+    if (quantized && width != 8) return NULL;
+    const wide_kernels *k = NULL;
+    switch (wide_isa_running(isa, width)) { /* at width 2: scalar or sse42, the tables that have it */
+    case WIDE_ISA_SCALAR: k = &wide_kernels_scalar[layout][fused]; break;
 #if defined(__x86_64__) || defined(__i386__)
-    case WIDE_ISA_SSE42: return &wide_kernels_sse42[k];
-    case WIDE_ISA_AVX2: return &wide_kernels_avx2[k];
-    case WIDE_ISA_AVX512: return &wide_kernels_avx512[k];
+    case WIDE_ISA_SSE42: k = &wide_kernels_sse42[layout][fused]; break;
+    case WIDE_ISA_AVX2: k = &wide_kernels_avx2[layout][fused]; break;
+    case WIDE_ISA_AVX512: k = &wide_kernels_avx512[layout][fused]; break;
 #endif
     default: return NULL;
     }
-}
-
-const wide_kernels *wide_kernels_quantized(wide_isa isa)
-{
-    switch (isa) {
-    case WIDE_ISA_SCALAR: return &wide_kernels_scalar_q;
-#if defined(__x86_64__) || defined(__i386__)
-    case WIDE_ISA_SSE42: return &wide_kernels_sse42_q;
-    case WIDE_ISA_AVX2: return &wide_kernels_avx2_q;
-    case WIDE_ISA_AVX512: return &wide_kernels_avx512_q;
-#endif
-    default: return NULL;
-    }
+    return k->intersect ? k : NULL;
 }

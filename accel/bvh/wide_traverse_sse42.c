@@ -76,11 +76,12 @@ WIDE_FN unsigned box8q(const wide_ray *r, const void *node, float t0, float t1, 
     return (box4_at(r, NULL, nd, 8, 0, t0, t1, tn) | box4_at(r, NULL, nd, 8, 4, t0, t1, tn)) & ((1u << nd->nchildren) - 1);
 }
 
-WIDE_ENTRY_POINTS(sse2, 2, box2)
-WIDE_ENTRY_POINTS(sse4, 4, box4)
-WIDE_ENTRY_POINTS(sse8, 8, box8)
-WIDE_ENTRY_POINTS_Q(sse8q, 8, true, box8q)
+WIDE_ENTRY_POINTS(sse2, 2, false, false, box2)
+WIDE_ENTRY_POINTS(sse4, 4, false, false, box4)
+WIDE_ENTRY_POINTS(sse8, 8, false, false, box8)
+WIDE_ENTRY_POINTS(sse8q, 8, true, false, box8q)
 
-const wide_kernels wide_kernels_sse42[3] = {WIDE_KERNELS(sse4), WIDE_KERNELS(sse8), WIDE_KERNELS(sse2)};
-const wide_kernels wide_kernels_sse42_q = WIDE_KERNELS(sse8q);
+/* No fma=on: SSE4.2 has no fused multiply-add. */
+const wide_kernels wide_kernels_sse42[WIDE_LAYOUTS][2] = {
+    {WIDE_KERNELS(sse2)}, {WIDE_KERNELS(sse4)}, {WIDE_KERNELS(sse8)}, {WIDE_KERNELS(sse8q)}};
 #endif

@@ -44,10 +44,14 @@
  * most FLT_MAX (wide_ray_init, wide_t1): then a > -inf and z < inf, so
  * "a <= z" alone is slab_clip's "a <= z, a < inf, z > -inf" (one
  * comparison per slot instead of three; test_champion's overflow test).
+ * fma=on (wide_fused_init below) computes each plane's distance with one
+ * fused multiply-add and directed per-ray constants instead, conservative
+ * with no far scale; the interval and the comparison are the same.
  * The SIMD kernels give the scalar one's distances bit for bit (no
- * contraction: the build has -ffp-contract=off, and the one FMA intrinsic,
- * compress=on's decoding of a plane as origin + q * scale, rounds as the
- * scalar multiply and add do because that product is exact).
+ * contraction: the build has -ffp-contract=off; fma=on's fused
+ * multiply-adds are fmaf in the scalar kernel, and compress=on's decoding
+ * of a plane as origin + q * scale rounds as the scalar multiply and add
+ * do because that product is exact).
  *
  * Counters: box_tests = child boxes tested (the used slots of every node
  * visited), steps = nodes visited plus leaves tested; prim_tests and
@@ -55,6 +59,7 @@
 #ifndef ACCELBENCH_BVH_WIDE_WALK_H
 #define ACCELBENCH_BVH_WIDE_WALK_H
 
+#include <math.h>
 #include "wide.h"
 
 #ifndef WIDE_TARGET
@@ -74,6 +79,8 @@
 typedef struct {
     float org[3], inv[3];       /* origin, 1 / direction (+-inf for +-0) */
     float inv_far[3];           /* inv * SLAB_FAR_SCALE: the far planes' robust reciprocal */
+    float nmul[3], nsub[3];     /* fma=on: a near plane's distance is fma(plane, nmul, -nsub) (wide_fused_init) */
+    float fmul[3], fsub[3];     /* and a far plane's fma(plane, fmul, -fsub) */
     float t0, tfar;             /* the ray's tnear, at least -FLT_MAX, and tfar, at most FLT_MAX */
     uint32_t near[3], far[3];   /* per axis the box row of the near and far plane: 2 axis + (inv < 0) and the other */
     uint32_t oct;               /* the octant whose order the walk takes (WIDE_ORDER) */
@@ -82,12 +89,56 @@ typedef struct {
     shear_t shear;              /* the ray's watertight shear (prims/shear.h), once per ray instead of per leaf */
 } wide_ray;
 
+/* fma=on's per-ray constants: per axis, a near plane pl's entry distance
+ * is fma(pl, nmul, -nsub) and a far plane's exit distance fma(pl, fmul,
+ * -fsub), each rounded once, in place of fma=off's subtraction and
+ * multiplication (one instruction and one rounding a plane instead of
+ * two, and no far scale).
+ *
+ * Why it is conservative. Let D = 1/d exactly for the direction's
+ * component d. The constants satisfy |nmul| <= |D| <= |fmul| (both of D's
+ * sign), nsub >= o nmul and fsub <= o fmul. A near plane's value before
+ * rounding is then pl nmul - nsub <= (pl - o) nmul, which is at most the
+ * exact distance (pl - o) D when that is >= 0, and <= 0 when it is not; a
+ * far plane's is pl fmul - fsub >= (pl - o) fmul, at least (pl - o) D when
+ * that is >= 0. The harness traces only ray_traceable rays, whose interval
+ * starts at tnear >= 0, so a box the exact ray meets at some t* >= tnear
+ * has every near value at most t* and every far one of the axes at least
+ * t* before rounding; rounding to nearest is monotone and keeps floats, so
+ * after it every entry distance and tnear are at most round(t*) and every
+ * exit distance and the interval's end at least round(t*): "a <= z" holds.
+ * (Along d = +-0 the same holds with D = +-inf: nmul = +-FLT_MAX and fmul
+ * = +-inf, the NaNs of inf - inf fall through the max and min.)
+ *
+ * The constants, branch-free in float: i = 1/d is within 2^-24 of D
+ * relatively (|d| <= 2^60, so i is normal), i (1 -+ 2^-22) rounded stays
+ * below and above |D| (nmul capped at FLT_MAX); a product p = o m rounded
+ * is moved away from o m by |p| 2^-22 + 2^-149 (at least two of its units
+ * in the last place, or the smallest subnormal), clamped to -FLT_MAX for
+ * nsub and FLT_MAX for fsub when it overflows (also the NaN of o = 0
+ * times fmul = inf: the far distances are then +-inf or NaN either way).
+ * The same C on every instruction set (no contraction), so every kernel
+ * sees the same constants. */
+WIDE_FN void wide_fused_init(wide_ray *r, const float org[3], const float dir[3])
+{
+    for (uint32_t a = 0; a < 3; a++) {
+        const float i = 1.0f / dir[a], lo = i * (1.0f - 0x1p-22f), hi = i * (1.0f + 0x1p-22f);
+        const float nmul = fabsf(lo) <= FLT_MAX ? lo : copysignf(FLT_MAX, lo);
+        const float p = org[a] * nmul, q = org[a] * hi;
+        const float nsub = p + (fabsf(p) * 0x1p-22f + 0x1p-149f), fsub = q - (fabsf(q) * 0x1p-22f + 0x1p-149f);
+        r->nmul[a] = nmul;
+        r->fmul[a] = hi;
+        r->nsub[a] = nsub >= -FLT_MAX ? nsub : -FLT_MAX; /* -inf + inf is NaN: clamped too */
+        r->fsub[a] = fsub <= FLT_MAX ? fsub : FLT_MAX;
+    }
+}
+
 /* false: the ray cannot hit anything (slab_ray_init's refusals: a NaN or
  * infinite component, a zero direction). The fields are slab_ray_init's,
  * written one by one: copying them out of a slab_ray made the compiler
  * move them through the stack in pieces that stalled store forwarding (8 %
  * of the walk's time in perf). */
-WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray)
+WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray, const bool F)
 {
     const vec3 o = ray->org, d = ray->dir;
     if (!v3_finite(o) || !v3_finite(d) || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f)) return false;
@@ -112,6 +163,7 @@ WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray)
      * (random rays on spd:balls:4:t, 0.6 triangle tests a ray: 1.15-1.2x
      * their time before). */
     r->sheared = ray_shear(d, &r->shear);
+    if (F) wide_fused_init(r, org, dir);
     r->t0 = ray->tnear > -FLT_MAX ? ray->tnear : -FLT_MAX; /* rayset.c refuses NaN tnear and tfar */
     r->tfar = ray->tfar < FLT_MAX ? ray->tfar : FLT_MAX;
     return true;
@@ -126,16 +178,25 @@ WIDE_FN float wide_t1(float t) { return t < FLT_MAX ? t : FLT_MAX; }
  * entry distance a into tn[0 .. W). */
 typedef unsigned (*wide_box_fn)(const wide_ray *r, const void *node, float t0, float t1, float *tn);
 
+/* One plane's distance in the reference kernel: near (or far) plane pl of
+ * axis ax, by fma=on's fused multiply-add (fmaf, exact as the SIMD
+ * kernels' instructions are) or fma=off's subtract and multiply. */
+WIDE_FN float wide_plane_t(const wide_ray *r, float pl, uint32_t ax, const bool far, const bool F)
+{
+    if (F) return far ? fmaf(pl, r->fmul[ax], -r->fsub[ax]) : fmaf(pl, r->nmul[ax], -r->nsub[ax]);
+    return (pl - r->org[ax]) * (far ? r->inv_far[ax] : r->inv[ax]);
+}
+
 /* The reference kernel, one slot at a time (isa=scalar). */
 WIDE_FN unsigned wide_box_scalar(const wide_ray *r, const float *rows, const uint32_t W, float t0, float t1,
-                                 float *tn)
+                                 float *tn, const bool F)
 {
     unsigned mask = 0;
     for (uint32_t k = 0; k < W; k++) {
         float a = t0, z = t1;
         for (uint32_t ax = 0; ax < 3; ax++) {
-            float n = (rows[r->near[ax] * W + k] - r->org[ax]) * r->inv[ax];
-            float f = (rows[r->far[ax] * W + k] - r->org[ax]) * r->inv_far[ax];
+            float n = wide_plane_t(r, rows[r->near[ax] * W + k], ax, false, F);
+            float f = wide_plane_t(r, rows[r->far[ax] * W + k], ax, true, F);
             if (n > a) a = n;
             if (f < z) z = f;
         }
@@ -148,7 +209,8 @@ WIDE_FN unsigned wide_box_scalar(const wide_ray *r, const float *rows, const uin
 /* The reference kernel on a quantised node (compress=on): each plane
  * decoded (wide_q_plane), then the test above; the unused slots, which
  * decode to a box at the origin, masked off. */
-WIDE_FN unsigned wide_box_scalar_q(const wide_ray *r, const wide8q_node *nd, float t0, float t1, float *tn)
+WIDE_FN unsigned wide_box_scalar_q(const wide_ray *r, const wide8q_node *nd, float t0, float t1, float *tn,
+                                   const bool F)
 {
     unsigned mask = 0;
     for (uint32_t k = 0; k < 8; k++) {
@@ -156,8 +218,8 @@ WIDE_FN unsigned wide_box_scalar_q(const wide_ray *r, const wide8q_node *nd, flo
         for (uint32_t ax = 0; ax < 3; ax++) {
             const float near = wide_q_plane(nd->origin[ax], nd->q[r->near[ax]][k], nd->scale_exp[ax]);
             const float far = wide_q_plane(nd->origin[ax], nd->q[r->far[ax]][k], nd->scale_exp[ax]);
-            float n = (near - r->org[ax]) * r->inv[ax];
-            float f = (far - r->org[ax]) * r->inv_far[ax];
+            float n = wide_plane_t(r, near, ax, false, F);
+            float f = wide_plane_t(r, far, ax, true, F);
             if (n > a) a = n;
             if (f < z) z = f;
         }
@@ -225,11 +287,11 @@ WIDE_FN void wide_prefetch(const wide_bvh *w, uint32_t ch, const uint32_t W, con
  * tree's order tested per node the default walk was 8 % slower on Sponza's
  * primary rays, 2-5 % without). */
 WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray,
-                               hit_t *hit, counters_t *c, const uint32_t W, const bool Q, const wide_box_fn box,
-                               const bool shadow, const bool counting, const bool octant)
+                               hit_t *hit, counters_t *c, const uint32_t W, const bool Q, const bool F,
+                               const wide_box_fn box, const bool shadow, const bool counting, const bool octant)
 {
     wide_ray r;
-    if (!w->nnodes || !wide_ray_init(&r, ray)) return false;
+    if (!w->nnodes || !wide_ray_init(&r, ray, F)) return false;
     uint64_t nbox = 0, nsteps = 0;
     uint32_t sp = 0, cur = 0;
     bool occluded = false;
@@ -337,40 +399,42 @@ done:
 }
 
 WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit,
-                       counters_t *c, const uint32_t W, const bool Q, const wide_box_fn box, const bool shadow,
-                       const bool counting)
+                       counters_t *c, const uint32_t W, const bool Q, const bool F, const wide_box_fn box,
+                       const bool shadow, const bool counting)
 {
-    if (!shadow && w->octant_order) return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, box, false, counting, true);
-    return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, box, shadow, counting, false);
+    if (!shadow && w->octant_order)
+        return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, F, box, false, counting, true);
+    return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, F, box, shadow, counting, false);
 }
 
 /* The four entry points of width W with kernel BOX (Q: on quantised
- * nodes), as functions named PREFIX_intersect etc. and a wide_kernels
- * initialiser. */
-#define WIDE_ENTRY_POINTS(PREFIX, W, BOX) WIDE_ENTRY_POINTS_Q(PREFIX, W, false, BOX)
-#define WIDE_ENTRY_POINTS_Q(PREFIX, W, Q, BOX)                                                                              \
+ * nodes; F: BOX computes fma=on's fused distances), as functions named
+ * PREFIX_intersect etc. and a wide_kernels initialiser. */
+#define WIDE_ENTRY_POINTS(PREFIX, W, Q, F, BOX) WIDE_ENTRY_POINTS_(PREFIX, W, Q, F, BOX) /* PREFIX expanded first */
+#define WIDE_ENTRY_POINTS_(PREFIX, W, Q, F, BOX)                                                                              \
     WIDE_TARGET static bool PREFIX##_intersect(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray, \
                                                hit_t *hit, counters_t *c)                                              \
     {                                                                                                                  \
-        return wide_walk(w, p, st, ray, hit, c, W, Q, BOX, false, true);                                                  \
+        return wide_walk(w, p, st, ray, hit, c, W, Q, F, BOX, false, true);                                                  \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_occluded(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray,  \
                                               counters_t *c)                                                           \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
-        return wide_walk(w, p, st, ray, &none, c, W, Q, BOX, true, true);                                                 \
+        return wide_walk(w, p, st, ray, &none, c, W, Q, F, BOX, true, true);                                                 \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_intersect_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,              \
                                                     const ray_t *ray, hit_t *hit)                                      \
     {                                                                                                                  \
-        return wide_walk(w, p, st, ray, hit, NULL, W, Q, BOX, false, false);                                              \
+        return wide_walk(w, p, st, ray, hit, NULL, W, Q, F, BOX, false, false);                                              \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_occluded_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,               \
                                                    const ray_t *ray)                                                   \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
-        return wide_walk(w, p, st, ray, &none, NULL, W, Q, BOX, true, false);                                             \
+        return wide_walk(w, p, st, ray, &none, NULL, W, Q, F, BOX, true, false);                                             \
     }
-#define WIDE_KERNELS(PREFIX) {PREFIX##_intersect, PREFIX##_occluded, PREFIX##_intersect_fast, PREFIX##_occluded_fast}
+#define WIDE_KERNELS(PREFIX) WIDE_KERNELS_(PREFIX)
+#define WIDE_KERNELS_(PREFIX) {PREFIX##_intersect, PREFIX##_occluded, PREFIX##_intersect_fast, PREFIX##_occluded_fast}
 
 #endif
