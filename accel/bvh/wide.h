@@ -148,7 +148,8 @@ typedef struct {
     uint8_t pad[8];       /*  8 */
     uint32_t order[4];    /* 16: as wide8_node's */
 } wide8q_node;
-_Static_assert(sizeof(wide8q_node) == 128, "wide8q_node: 48 + 12 + 3 + 1 + 32 + 8 + 8 + 16 = 128 bytes (two cache lines)");
+_Static_assert(sizeof(wide8q_node) == 128,
+               "wide8q_node: 48 + 12 + 3 + 1 + 32 + 8 + 8 + 16 = 128 bytes (two cache lines)");
 _Static_assert(offsetof(wide8q_node, child) == 64, "wide8q_node: the box test reads only its first line");
 #define WIDE_Q_MAX_EXP 247 /* 255 * 2^(247 - 127) < FLT_MAX: q * scale never overflows */
 
@@ -190,8 +191,10 @@ _Static_assert(offsetof(wide8_node, child) == 24 * 8 && offsetof(wide8_node, cou
  * (w->quantized; W is then 8). */
 #define WIDE_NODE_SIZE(W, Q) ((Q) ? sizeof(wide8q_node) : WIDE_NODE_BYTES(W))
 #define WIDE_NODE_AT(nodes, i, W, Q) ((char *)(nodes) + (size_t)(i) * WIDE_NODE_SIZE(W, Q))
-#define WIDE_CHILD_Q(node, W, Q) ((Q) ? (uint32_t *)((char *)(node) + offsetof(wide8q_node, child)) : WIDE_CHILD(node, W))
-#define WIDE_COUNT_Q(node, W, Q) ((Q) ? (uint8_t *)((char *)(node) + offsetof(wide8q_node, count)) : WIDE_COUNT(node, W))
+#define WIDE_CHILD_Q(node, W, Q)                                                                                      \
+    ((Q) ? (uint32_t *)((char *)(node) + offsetof(wide8q_node, child)) : WIDE_CHILD(node, W))
+#define WIDE_COUNT_Q(node, W, Q)                                                                                      \
+    ((Q) ? (uint8_t *)((char *)(node) + offsetof(wide8q_node, count)) : WIDE_COUNT(node, W))
 #define WIDE_NCHILDREN_Q(node, W, Q) ((Q) ? ((wide8q_node *)(node))->nchildren : WIDE_NCHILDREN(node, W))
 #define WIDE_ORDER_Q(node, W, Q, oct)                                                                                 \
     ((Q) ? ((const uint32_t *)((const char *)(node) + offsetof(wide8q_node, order)))[oct] : WIDE_ORDER(node, W, oct))

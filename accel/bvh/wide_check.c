@@ -118,7 +118,8 @@ int wide_check(const wide_bvh *w, const box3 *boxes, uint32_t n, char *err, size
             if (k >= v.nchildren) {
                 /* (a quantised node's unused slots decode to a box at its
                  * origin; its kernels mask them off) */
-                if (v.child[k] != WIDE_EMPTY || v.count[k] || (!w->quantized && !(b.lo.x == INFINITY && b.hi.x == -INFINITY)))
+                const bool empty_box = b.lo.x == INFINITY && b.hi.x == -INFINITY;
+                if (v.child[k] != WIDE_EMPTY || v.count[k] || (!w->quantized && !empty_box))
                     FAIL("node %u slot %u: unused but not empty", i, k);
                 continue;
             }

@@ -34,7 +34,10 @@ wide_isa wide_isa_running(wide_isa isa, uint32_t width)
 
 const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width, bool quantized, bool fused)
 {
-    const int layout = quantized ? WIDE_LAYOUT_8Q : width == 8 ? WIDE_LAYOUT_8 : width == 4 ? WIDE_LAYOUT_4 : WIDE_LAYOUT_2;
+    const int layout = quantized    ? WIDE_LAYOUT_8Q
+                       : width == 8 ? WIDE_LAYOUT_8
+                       : width == 4 ? WIDE_LAYOUT_4
+                                    : WIDE_LAYOUT_2;
     if (quantized && width != 8) return NULL;
     const wide_kernels *k = NULL;
     switch (wide_isa_running(isa, width)) { /* at width 2: scalar or sse42, the tables that have it */

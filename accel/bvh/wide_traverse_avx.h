@@ -9,8 +9,8 @@
  * The arithmetic is wide_walk.h's box test: fma=off subtracts the origin
  * and multiplies by the (far-scaled) reciprocal, fma=on (F) takes one
  * fused multiply-add a plane with the ray's directed constants
- * (wide_ray.c); the planes are read as floats from a node's rows, or
- * decoded from a quantised wide8q_node's bytes (compress=on). */
+ * (wide_fused_init); the planes are read as floats from a node's rows,
+ * or decoded from a quantised wide8q_node's bytes (compress=on). */
 #include <immintrin.h>
 #include "wide_walk.h"
 

@@ -73,7 +73,8 @@ WIDE_FN unsigned box2(const wide_ray *r, const void *node, float t0, float t1, f
 WIDE_FN unsigned box8q(const wide_ray *r, const void *node, float t0, float t1, float *tn)
 {
     const wide8q_node *nd = node;
-    return (box4_at(r, NULL, nd, 8, 0, t0, t1, tn) | box4_at(r, NULL, nd, 8, 4, t0, t1, tn)) & ((1u << nd->nchildren) - 1);
+    const unsigned hit = box4_at(r, NULL, nd, 8, 0, t0, t1, tn) | box4_at(r, NULL, nd, 8, 4, t0, t1, tn);
+    return hit & ((1u << nd->nchildren) - 1);
 }
 
 WIDE_ENTRY_POINTS(sse2, 2, false, false, box2)
