@@ -66,7 +66,11 @@ static bool grazes(const scene_t *s, const ray_t *r, uint32_t prim, double t)
 bool verify_hit_at_origin(const scene_t *s, const ray_t *r, uint32_t prim, double t)
 {
     if (prim == HIT_NONE) return false;
-    double along_normal = fabs(t) * v3_len(r->dir) * incidence(s, r, prim, t);
+    /* A triangle: the origin's distance from its plane, the exact value of
+     * t |d . n| (a float test's t this close to the origin may be off by
+     * many times it, as on a thin wall seen edge-on); other primitives: t's. */
+    double along_normal = prim_plane_distance(&s->prims, prim, r->org);
+    if (isnan(along_normal)) along_normal = fabs(t) * v3_len(r->dir) * incidence(s, r, prim, t);
     return along_normal <= ORIGIN_ULPS * verify_noise_scale(s, r, prim);
 }
 

@@ -372,6 +372,19 @@ bool prim_intersect_double(const prims_t *p, uint32_t id, const ray_t *ray, doub
     }
 }
 
+double prim_plane_distance(const prims_t *p, uint32_t id, vec3 q)
+{
+    if ((prim_kind)p->kind[id] != PRIM_TRIANGLE) return NAN;
+    vec3 a, b, c;
+    tri_verts(p, p->index[id], &a, &b, &c);
+    const double e1[3] = {(double)b.x - a.x, (double)b.y - a.y, (double)b.z - a.z};
+    const double e2[3] = {(double)c.x - a.x, (double)c.y - a.y, (double)c.z - a.z};
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 0.0)) return NAN;
+    return fabs(n[0] * ((double)q.x - a.x) + n[1] * ((double)q.y - a.y) + n[2] * ((double)q.z - a.z)) / len;
+}
+
 double prim_boundary_distance(const prims_t *p, uint32_t id, const ray_t *ray, double t)
 {
     uint32_t k = p->index[id];

@@ -251,6 +251,13 @@ bool prim_intersect_double(const prims_t *p, uint32_t id, const ray_t *ray, doub
  * Small values mark edge, vertex, rim or silhouette grazes. */
 double prim_boundary_distance(const prims_t *p, uint32_t id, const ray_t *ray, double t);
 
+/* How far point q lies from triangle id's plane, in double (|n . (q - a)| /
+ * |n| over its corners as floats); NAN for a primitive that is not a
+ * triangle, or a triangle of zero area. The verifier's "origin" class
+ * measures a ray's start with it: a float test's t near the origin can be
+ * off by many times the origin's distance (a thin wall seen edge-on). */
+double prim_plane_distance(const prims_t *p, uint32_t id, vec3 q);
+
 /* --- polygon helpers, also for scene code --- */
 
 /* The unit normal of the polygon pts[0..n) by Newell's method (the sum of

@@ -113,6 +113,43 @@ static void classes_on_purpose(void)
     scene_free(s);
 }
 
+/* origin, measured at the ray's start: buildings' shadow ray 2761 at
+ * 256x256 starts 1.2e-4 from the plane of a triangle 40 high and 0.0036
+ * wide (a thin wall seen nearly edge-on); the watertight float test puts
+ * the hit at t = 0.0040, where the plane lies at t = -0.00057 (so no hit:
+ * the judge's miss), and t |d . n| read from that t passed the origin
+ * bound. The origin's distance from the plane is within it: origin. Moved
+ * 0.01 on along the ray, away from the wall, the same "occluded" is real. */
+static void origin_on_thin_wall(void)
+{
+    scene_t *s = scene_new("thin wall");
+    prims_t *p = &s->prims;
+    uint32_t a = prims_add_vertex(p, v3(0x1.d90ffap+5f, 0x1.8cdcfap+6f, 0.0f));
+    uint32_t b = prims_add_vertex(p, v3(0x1.d908cep+5f, 0x1.8ce69ap+6f, 0.0f));
+    uint32_t c = prims_add_vertex(p, v3(0x1.d908cep+5f, 0x1.8ce69ap+6f, 0x1.4p+5f));
+    prims_add_triangle(p, a, b, c);
+    char err[256];
+    if (scene_finish(s, false, err, sizeof err)) {
+        fprintf(stderr, "%s\n", err);
+        exit(2);
+    }
+    const vec3 o = v3(0x1.d90a46p+5f, 0x1.8ce4f6p+6f, 0x1.c89454p+4f), d = v3(0x1.959586p-2f, -0x1.f7d776p-2f, 0x1.8ceeb2p-1f);
+    ray_t r = {o, 0.0f, d, 608.137451f, 0, 0};
+    hit_t h = hit_none(&r);
+    counters_t cnt = {0};
+    CHECK_MSG(prim_intersect(p, 0, &r, &h, &cnt) && h.t > 0.003f && h.t < 0.005f, "the float test's hit: t %g", h.t);
+    CHECK(prim_plane_distance(p, 0, o) < 2e-4);
+    verifier_t *v = verifier_new(s, 0.0);
+    const hit_t miss = {INFINITY, 0, 0, HIT_NONE};
+    CHECK_CLASS(classify(v, r, QUERY_ANY, miss, miss, 1, 0), MM_ORIGIN);
+    ray_t away = r;
+    away.org = v3(o.x + 0.01f * d.x, o.y + 0.01f * d.y, o.z + 0.01f * d.z);
+    CHECK(prim_plane_distance(p, 0, away.org) > 1e-3);
+    CHECK_CLASS(classify(v, away, QUERY_ANY, miss, miss, 1, 0), MM_REAL);
+    verifier_free(v);
+    scene_free(s);
+}
+
 int main(void)
 {
     scene_t *s = test_scene("spd:balls:2");
@@ -165,5 +202,6 @@ int main(void)
     scene_free(glass);
     scene_free(s);
     classes_on_purpose();
+    origin_on_thin_wall();
     return check_report();
 }
