@@ -63,6 +63,7 @@
 #include <math.h>
 #include <string.h>
 #include "accel/bvh_champion.h"
+#include "../prims/prims_internal.h" /* float_down, float_up */
 #include "testlib.h"
 
 static accel *champ_with(const scene_t *s, const char *cfg)
@@ -638,18 +639,6 @@ static void test_embree_rules(void)
     scene_free(s);
 }
 
-/* A double rounded to the float below or above it. */
-static float float_below(double x)
-{
-    float f = (float)x;
-    return (double)f > x ? nextafterf(f, -INFINITY) : f;
-}
-static float float_above(double x)
-{
-    float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
-}
-
 /* The box test is conservative under both arithmetics (wide_walk.h): a box
  * around a point the exact ray passes, thin (its planes the floats next
  * to the point, computed in double with room for the double's rounding)
@@ -686,8 +675,8 @@ static void test_box_conservative(void)
         for (int ax = 0; ax < 3; ax++) {
             const double x = (double)o[ax] + (double)t * (double)d[ax]; /* the exact point, to the double's rounding */
             const double room = fabs(x) * 0x1p-50 + fabs((double)t * (double)d[ax]) * 0x1p-50;
-            lo[ax] = float_below(x - room);
-            hi[ax] = float_above(x + room);
+            lo[ax] = float_down(x - room);
+            hi[ax] = float_up(x + room);
         }
         const box3 b = {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
         for (int fused = 0; fused < 2; fused++) {

@@ -65,8 +65,9 @@ box3 wide_node_slot_box(const wide_bvh *w, uint32_t ni, uint32_t k)
 }
 
 /* Node src (a wide8_node) as a quantised one; false when some axis of its
- * box is wider than the largest scale spans (the failing axis in *axis). */
-static bool quantize_node(const char *src, wide8q_node *dst, uint32_t *axis)
+ * box is wider than the largest scale spans (that axis in *axis, its
+ * extent in *span_lo, *span_hi). */
+static bool quantize_node(const char *src, wide8q_node *dst, uint32_t *axis, float *span_lo, float *span_hi)
 {
     const uint32_t n = WIDE_NCHILDREN(src, 8);
     box3 child[8], node = box_empty();
@@ -76,7 +77,7 @@ static bool quantize_node(const char *src, wide8q_node *dst, uint32_t *axis)
     for (uint32_t ax = 0; ax < 3; ax++) {
         dst->origin[ax] = lo[ax];
         if (!(dst->scale_exp[ax] = scale_exp_for(lo[ax], hi[ax]))) {
-            *axis = ax;
+            *axis = ax, *span_lo = lo[ax], *span_hi = hi[ax];
             return false;
         }
     }
@@ -113,14 +114,9 @@ int wide_quantize(wide_bvh *w, char *err, size_t errlen)
         return -1;
     }
     for (uint32_t i = 0; i < w->nnodes; i++) {
-        const char *src = WIDE_NODE_AT(w->nodes, i, 8, false);
         uint32_t axis = 0;
-        if (!quantize_node(src, &q[i], &axis)) {
-            float lo = INFINITY, hi = -INFINITY;
-            for (uint32_t k = 0; k < WIDE_NCHILDREN(src, 8); k++) {
-                lo = fminf(lo, WIDE_ROWS(src)[2 * axis * 8 + k]);
-                hi = fmaxf(hi, WIDE_ROWS(src)[(2 * axis + 1) * 8 + k]);
-            }
+        float lo = 0, hi = 0;
+        if (!quantize_node(WIDE_NODE_AT(w->nodes, i, 8, false), &q[i], &axis, &lo, &hi)) {
             snprintf(err, errlen,
                      "compress=on: node %u spans %g to %g on %c, wider than 255 steps of the largest scale (2^%d) reach",
                      i, lo, hi, "xyz"[axis], WIDE_Q_MAX_EXP - 127);

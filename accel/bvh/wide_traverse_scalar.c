@@ -63,6 +63,5 @@ unsigned wide_box_probe(const ray_t *ray, box3 box, bool fused)
     wide_ray r;
     float tn[8];
     if (!wide_ray_init(&r, ray, fused)) return 0;
-    return fused ? wide_box_scalar(&r, &nd.box[0][0], 8, r.t0, r.tfar, tn, true)
-                 : wide_box_scalar(&r, &nd.box[0][0], 8, r.t0, r.tfar, tn, false);
+    return wide_box_scalar(&r, &nd.box[0][0], 8, r.t0, r.tfar, tn, fused);
 }
