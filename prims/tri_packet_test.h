@@ -24,17 +24,26 @@
 #endif
 #define TRI_PACKET_FN static inline __attribute__((always_inline)) TRI_PACKET_TARGET
 
-TRI_PACKET_FN sheared_t tripk_corner(const shear_t *s, const prim_tri_packet *pk, int corner, uint32_t l, vec3 org)
+TRI_PACKET_FN vec3 tripk_corner(const prim_tri_packet *pk, int corner, uint32_t l)
 {
-    return shear_vertex(s, v3(pk->v[corner][0][l], pk->v[corner][1][l], pk->v[corner][2][l]), org);
+    return v3(pk->v[corner][0][l], pk->v[corner][1][l], pk->v[corner][2][l]);
 }
 
 /* Lane l against [tnear, tmax): the one-triangle test's arithmetic. */
 TRI_PACKET_FN bool tripk_lane_hit(const shear_t *s, const prim_tri_packet *pk, uint32_t l, const ray_t *ray,
                                   float tmax, float *t, float *u, float *v)
 {
-    return triangle_sheared_hit(s, tripk_corner(s, pk, 0, l, ray->org), tripk_corner(s, pk, 1, l, ray->org),
-                                tripk_corner(s, pk, 2, l, ray->org), ray, tmax, t, u, v);
+    vec3 a = tripk_corner(pk, 0, l), b = tripk_corner(pk, 1, l), c = tripk_corner(pk, 2, l);
+    return triangle_sheared_hit(s, a, b, c, shear_vertex(s, a, ray->org), shear_vertex(s, b, ray->org),
+                                shear_vertex(s, c, ray->org), ray, tmax, t, u, v);
+}
+
+/* The hit distance of lane l, inside by the sign test, whose sheared float
+ * t is tf: tri_sheared.h's triangle_plane_t, as the one-triangle test. */
+TRI_PACKET_FN float tripk_lane_t(const prim_tri_packet *pk, uint32_t l, const ray_t *ray, float tf)
+{
+    return triangle_plane_t(tripk_corner(pk, 0, l), tripk_corner(pk, 1, l), tripk_corner(pk, 2, l), ray->org,
+                            ray->dir, tf);
 }
 
 /* Tested lanes: every lane with an id, in order. */
@@ -50,8 +59,9 @@ TRI_PACKET_FN uint32_t tripk_lanes(const prim_tri_packet *pk)
 /* All lanes of a packet at once with SSE2 (the x86-64 baseline, so no
  * target attribute and no dispatch): the same operations as
  * tri_sheared.h in the same order, each an IEEE single-precision operation
- * (no contraction), so every lane gets the one-triangle test's values bit
- * for bit. Lanes where a float edge function is exactly 0 need the double
+ * (no contraction), and the same scalar triangle_plane_t for the distance
+ * of the lanes inside, so every lane gets the one-triangle test's values
+ * bit for bit. Lanes where a float edge function is exactly 0 need the double
  * fallback: those go through the scalar tripk_lane_hit. Returns the mask of the
  * live lanes that hit in [tnear, tmax), with t, u, v per lane. */
 TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk, unsigned live, const ray_t *ray,
@@ -85,13 +95,19 @@ TRI_PACKET_FN unsigned tripk_hits(const shear_t *s, const prim_tri_packet *pk, u
     __m128 det = _mm_add_ps(_mm_add_ps(U, V), W);
     __m128 T = _mm_add_ps(_mm_add_ps(_mm_mul_ps(U, _mm_mul_ps(sz, Z[0])), _mm_mul_ps(V, _mm_mul_ps(sz, Z[1]))),
                           _mm_mul_ps(W, _mm_mul_ps(sz, Z[2])));
-    __m128 tt = _mm_div_ps(T, det);
-    __m128 ok = _mm_andnot_ps(outside, _mm_cmpneq_ps(det, zero));
-    ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpge_ps(tt, _mm_set1_ps(ray->tnear)), _mm_cmplt_ps(tt, _mm_set1_ps(tmax))));
-    _mm_storeu_ps(t, tt);
+    _mm_storeu_ps(t, _mm_div_ps(T, det));
     _mm_storeu_ps(u, _mm_div_ps(V, det));
     _mm_storeu_ps(v, _mm_div_ps(W, det));
-    unsigned mask = (unsigned)_mm_movemask_ps(ok) & live & ~exact;
+    /* The lanes inside (signs agree, det != 0) get their distance from
+     * triangle_plane_t, one at a time, as the one-triangle test does; the
+     * range test applies to that t. */
+    unsigned mask = 0;
+    unsigned inside = (unsigned)_mm_movemask_ps(_mm_andnot_ps(outside, _mm_cmpneq_ps(det, zero))) & live & ~exact;
+    for (; inside; inside &= inside - 1) {
+        uint32_t l = (uint32_t)__builtin_ctz(inside);
+        t[l] = tripk_lane_t(pk, l, ray, t[l]);
+        if (t[l] >= ray->tnear && t[l] < tmax) mask |= 1u << l;
+    }
     for (unsigned rest = exact & live; rest; rest &= rest - 1) {
         uint32_t l = (uint32_t)__builtin_ctz(rest);
         if (tripk_lane_hit(s, pk, l, ray, tmax, &t[l], &u[l], &v[l])) mask |= 1u << l;

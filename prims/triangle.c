@@ -41,7 +41,7 @@ bool triangle_intersect(vec3 a, vec3 b, vec3 c, const ray_t *ray, float tmax, fl
 {
     shear_t s;
     if (!ray_shear(ray->dir, &s)) return false;
-    return triangle_sheared_hit(&s, shear_vertex(&s, a, ray->org), shear_vertex(&s, b, ray->org),
+    return triangle_sheared_hit(&s, a, b, c, shear_vertex(&s, a, ray->org), shear_vertex(&s, b, ray->org),
                                 shear_vertex(&s, c, ray->org), ray, tmax, t, u, v);
 }
 
