@@ -18,9 +18,9 @@
  * Why not the sheared test's own t = (U Az + V Bz + W Cz) sz / det: its
  * terms are the vertices' distances along the ray, the size of the
  * triangle, and they cancel down to t. On a floor thousands of units wide
- * seen from 1.7 units away, float's rounding of those terms (and of the
+ * seen from a few units away, float's rounding of those terms (and of the
  * vertices minus the origin) is thousands of times the float step at the
- * hit: t = 1.68952 for an exact 1.68665. Here every input is a float, so
+ * hit. Here every input is a float, so
  * b - a, c - a and a - o are exact in double (operands within 2^29 of each
  * other's magnitude), the products and sums round at 2^-53 of terms of the
  * triangle's size, and the division's result is rounded once to float:
