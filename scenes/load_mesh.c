@@ -71,6 +71,15 @@ typedef struct {
 
 static int send_error(int fd, const char *msg);
 
+/* Whether an assimp message is the std::bad_alloc it caught: its text ends
+ * with the exception's what() (a file name in a message does not). */
+static bool says_bad_alloc(const char *message)
+{
+    size_t n = strlen(message), m = strlen("std::bad_alloc");
+    while (n && (message[n - 1] == '\n' || message[n - 1] == '\r' || message[n - 1] == ' ')) n--;
+    return n >= m && strncmp(message + n - m, "std::bad_alloc", m) == 0;
+}
+
 /* The child's report that assimp ran out of memory: it runs under an
  * address-space limit of the memory cap (isolate.h), so it is the cap that
  * stopped it, whatever the file. */
@@ -92,7 +101,7 @@ static void on_log(const char *message, char *user)
     /* assimp logs the std::bad_alloc it caught, then may crash releasing
      * what it had (aiApplyPostProcessing's failure path releases the scene
      * twice): the report cannot wait for the import to return. */
-    if (strncmp(message, "Error", 5) == 0 && strstr(message, "bad_alloc")) {
+    if (strncmp(message, "Error", 5) == 0 && says_bad_alloc(message)) {
         send_out_of_memory(cap->fd, cap->path);
         _exit(0);
     }
@@ -318,7 +327,7 @@ static const struct aiScene *import(const file_data_t *f, const char *path, int 
     const struct aiScene *as = aiImportFileExWithProperties(fs.main_name, 0, &io, props);
     aiReleasePropertyStore(props);
 
-    if (!as && strstr(aiGetErrorString(), "bad_alloc")) {
+    if (!as && says_bad_alloc(aiGetErrorString())) {
         send_out_of_memory(fd, path);
         _exit(0);
     }
