@@ -238,8 +238,11 @@ static int read_entry(struct archive *a, size_t hint, size_t limit, const char *
 }
 
 /* Read a single (possibly compressed) stream that is already opened as the
- * raw format: it has exactly one entry, the whole decompressed data. */
-static int read_raw(struct archive *a, size_t limit, const char *what, file_data_t *out, char *err, size_t errlen)
+ * raw format: it has exactly one entry, the whole decompressed data. size
+ * is the stream's size when it is known (0 if not), which is the data's
+ * when no decompression filter was recognised. */
+static int read_raw(struct archive *a, size_t size, size_t limit, const char *what, file_data_t *out, char *err,
+                    size_t errlen)
 {
     struct archive_entry *e;
     int r = archive_read_next_header(a, &e);
@@ -257,7 +260,7 @@ static int read_raw(struct archive *a, size_t limit, const char *what, file_data
         snprintf(err, errlen, "%s: %s", what, archive_error_string(a) ? archive_error_string(a) : "cannot read");
         return -1;
     }
-    return read_entry(a, 0, limit, what, out, err, errlen);
+    return read_entry(a, archive_filter_count(a) == 1 ? size : 0, limit, what, out, err, errlen);
 }
 
 static struct archive *raw_reader(void)
@@ -293,7 +296,8 @@ static int read_plain(const char *file, file_data_t *out, char *err, size_t errl
     if (archive_read_open_fd(a, fd, 1 << 16) != ARCHIVE_OK)
         snprintf(err, errlen, "%s: %s", file, archive_error_string(a) ? archive_error_string(a) : "cannot open");
     else
-        rc = read_raw(a, read_limit(0), file, out, err, errlen);
+        rc = read_raw(a, st.st_size > 0 && (uint64_t)st.st_size < SIZE_MAX / 2 ? (size_t)st.st_size : 0, read_limit(0),
+                      file, out, err, errlen);
     archive_read_free(a);
     close(fd);
     return rc;
@@ -312,7 +316,7 @@ static int decompress_member(const char *what, file_data_t *f, char *err, size_t
     if (archive_read_open_memory(a, f->data, f->size) != ARCHIVE_OK)
         snprintf(err, errlen, "%s: %s", what, archive_error_string(a) ? archive_error_string(a) : "cannot open");
     else
-        rc = read_raw(a, read_limit(f->size), what, &inner, err, errlen);
+        rc = read_raw(a, 0, read_limit(f->size), what, &inner, err, errlen);
     archive_read_free(a);
     if (rc == 0) {
         free(f->data);

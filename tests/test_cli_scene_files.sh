@@ -62,6 +62,10 @@ for f in bomb.obj.gz bomb.nff.gz bomb.obj.xz "bombs.tar#in/bomb.obj.gz"; do
     refused "$f: its contents run past [0-9]+ bytes: stopped by the memory cap of 64 MiB \(--memcap 64\); $RAISE" \
         -- timeout 60 "$AB" scene info "$T/$f" --memcap 64
 done
+truncate -s 2G "$T/sparse.obj" # a plain file past the cap: refused by its size, before it is read
+refused "sparse.obj: its contents need 2147483648 bytes \(2048.0 MiB\), above the memory cap of 64 MiB \(--memcap 64\); $RAISE" \
+    -- timeout 20 "$AB" scene info "$T/sparse.obj" --memcap 64
+rm -f "$T/sparse.obj"
 refused "bomb.obj.gz: .*stopped by the memory cap of 64 MiB" \
     -- timeout 60 "$AB" run --scenes "$T/bomb.obj.gz" --accels exhaustive --res 8x8 --memcap 64 --out "$T/run2"
 # Peak RSS: within the cap and some slack of a tiny scene's, where reading it whole reached 350 MiB and more.
