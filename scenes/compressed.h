@@ -25,9 +25,15 @@ typedef struct {
                       * "x.obj" for dir/x.obj.gz */
 } file_data_t;
 
-/* Read PATH (see above) into *out. Returns 0, or -1 with a one-line reason
- * in err naming the file: "PATH: <strerror>" when it cannot be opened,
- * "no member M in ARCHIVE" when the member is missing, or libarchive's
+/* Read PATH (see above) into *out. Only a regular file is read (a FIFO or
+ * a device is refused before it is opened for reading), and what is held
+ * in memory, decompressed, stays within the memory cap (memory_cap.h). A
+ * member that is a hard link is read from the member it links to. Returns
+ * 0, or -1 with a one-line reason in err naming the file: "PATH: <strerror>"
+ * when it cannot be opened, "PATH: a FIFO (named pipe), not a regular
+ * file ...", "no member M in ARCHIVE" when the member is missing, "M in
+ * ARCHIVE is a symbolic link to T ..." or "... is a directory ...", "PATH:
+ * decompresses to nothing ...", the memory cap's line, or libarchive's
  * reason when the data is corrupt. */
 int compressed_read(const char *path, file_data_t *out, char *err, size_t errlen);
 void compressed_free(file_data_t *f);

@@ -15,7 +15,8 @@
  * anything in its name), SIGINT, SIGTERM and SIGHUP, and with an
  * address-space limit of what it has mapped plus the memory cap
  * (scenes/memory_cap.h), so that an absurd allocation fails inside it
- * (assimp then reports std::bad_alloc) rather than exhausting the machine.
+ * (assimp then reports std::bad_alloc, which the mesh loader words as the
+ * cap stopping it) rather than exhausting the machine.
  * It leaves through _exit: nothing of the parent's (stdio buffers, atexit
  * handlers, LeakSanitizer's exit check) runs twice.
  *

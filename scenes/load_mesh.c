@@ -61,10 +61,34 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 typedef struct {
     char first_error[256]; /* the first error-level log message, "" if none */
+    int fd;                /* the child's pipe to the parent */
+    const char *path;      /* the file, for messages */
 } log_capture;
+
+static int send_error(int fd, const char *msg);
+
+/* Whether an assimp message is the std::bad_alloc it caught: its text ends
+ * with the exception's what() (a file name in a message does not). */
+static bool says_bad_alloc(const char *message)
+{
+    size_t n = strlen(message), m = strlen("std::bad_alloc");
+    while (n && (message[n - 1] == '\n' || message[n - 1] == '\r' || message[n - 1] == ' ')) n--;
+    return n >= m && strncmp(message + n - m, "std::bad_alloc", m) == 0;
+}
+
+/* The child's report that assimp ran out of memory: it runs under an
+ * address-space limit of the memory cap (isolate.h), so it is the cap that
+ * stopped it, whatever the file. */
+static void send_out_of_memory(int fd, const char *path)
+{
+    char msg[1024];
+    memory_cap_stopped(msg, sizeof msg, "%s: assimp's reader ran out of memory", path);
+    (void)send_error(fd, msg);
+}
 
 /* assimp formats messages as "Error, T0: text\n" (or "Warn, ..."). Some
  * errors are harmless here and do not count: those about materials and
@@ -74,6 +98,13 @@ typedef struct {
 static void on_log(const char *message, char *user)
 {
     log_capture *cap = (log_capture *)(void *)user;
+    /* assimp logs the std::bad_alloc it caught, then may crash releasing
+     * what it had (aiApplyPostProcessing's failure path releases the scene
+     * twice): the report cannot wait for the import to return. */
+    if (strncmp(message, "Error", 5) == 0 && says_bad_alloc(message)) {
+        send_out_of_memory(cap->fd, cap->path);
+        _exit(0);
+    }
     if (cap->first_error[0] || strncmp(message, "Error", 5) != 0) return;
     if (strcasestr(message, "material") || strcasestr(message, "texture") ||
         strstr(message, "No object detected to attach a new mesh instance"))
@@ -275,8 +306,8 @@ static int precheck(const file_data_t *f, const char *path, char *err, size_t er
 }
 
 /* Import with assimp: NULL with the reason in err on failure. Runs in the
- * child (import_child). */
-static const struct aiScene *import(const file_data_t *f, const char *path, char *err, size_t errlen)
+ * child (import_child), fd its pipe. */
+static const struct aiScene *import(const file_data_t *f, const char *path, int fd, char *err, size_t errlen)
 {
     mem_fs fs = {f, f->name[0] ? f->name : "mesh", {0}};
     container_prefix(path, fs.prefix, sizeof fs.prefix);
@@ -290,30 +321,28 @@ static const struct aiScene *import(const file_data_t *f, const char *path, char
     aiSetImportPropertyInteger(props, AI_CONFIG_PP_RVC_FLAGS,
                                aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS | aiComponent_COLORS |
                                    aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS);
-    log_capture cap = {{0}};
+    log_capture cap = {{0}, fd, path};
     struct aiLogStream stream = {on_log, (char *)(void *)&cap};
-    aiAttachLogStream(&stream);
+    aiAttachLogStream(&stream); /* through the post-processing too: on_log reports running out of memory */
     const struct aiScene *as = aiImportFileExWithProperties(fs.main_name, 0, &io, props);
-    aiDetachLogStream(&stream);
     aiReleasePropertyStore(props);
 
-    if (!as) {
-        snprintf(err, errlen, "%s: assimp: %s", path, aiGetErrorString());
-        return NULL;
+    if (!as && says_bad_alloc(aiGetErrorString())) {
+        send_out_of_memory(fd, path);
+        _exit(0);
     }
-    if (cap.first_error[0]) {
-        snprintf(err, errlen, "%s: assimp: %s", path, cap.first_error);
+    if (!as) snprintf(err, errlen, "%s: assimp: %s", path, aiGetErrorString());
+    else if (cap.first_error[0]) snprintf(err, errlen, "%s: assimp: %s", path, cap.first_error);
+    if (as && (cap.first_error[0] || check_raw(as, path, err, errlen) != 0)) {
         aiReleaseImport(as);
-        return NULL;
-    }
-    if (check_raw(as, path, err, errlen) != 0) {
-        aiReleaseImport(as);
-        return NULL;
+        as = NULL;
     }
     /* On failure this releases the scene itself. */
-    as = aiApplyPostProcessing(as, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                       aiProcess_PreTransformVertices);
-    if (!as) snprintf(err, errlen, "%s: assimp: %s", path, aiGetErrorString());
+    if (as)
+        as = aiApplyPostProcessing(as, aiProcess_RemoveComponent | aiProcess_Triangulate |
+                                           aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);
+    if (!as && !err[0]) snprintf(err, errlen, "%s: assimp: %s", path, aiGetErrorString());
+    aiDetachLogStream(&stream);
     return as;
 }
 
@@ -379,8 +408,8 @@ static int send_triangles(int fd, const struct aiMesh *mesh, uint32_t base)
 static int import_child(int fd, void *arg)
 {
     const import_job *job = arg;
-    char err[1024];
-    const struct aiScene *as = import(job->f, job->path, err, sizeof err);
+    char err[1024] = "";
+    const struct aiScene *as = import(job->f, job->path, fd, err, sizeof err);
     if (!as) return send_error(fd, err);
     wire_header h = {WIRE_MAGIC, 1, 0, 0, 0, 0, 0};
     for (unsigned m = 0; m < as->mNumMeshes; m++) {
@@ -471,7 +500,12 @@ scene_t *scene_mesh_from_memory(const char *name, const char *path, const char *
     import_job job = {&f, path};
     char *out, why[256];
     size_t out_len;
-    if (isolate_run(import_child, &job, memory_cap_bytes(), &out, &out_len, why, sizeof why) != 0) {
+    int rc = isolate_run(import_child, &job, memory_cap_bytes(), &out, &out_len, why, sizeof why);
+    if (rc != 0 && strncmp(why, "wrote more than", 15) == 0) { /* its output is held here: the cap bounds it */
+        memory_cap_stopped(err, errlen, "%s: the mesh assimp read is larger than the memory cap allows", path);
+        return NULL;
+    }
+    if (rc != 0) {
         snprintf(err, errlen, "%s: assimp's reader %s on this file (a malformed file, or a form of it assimp cannot read)",
                  path, why);
         return NULL;

@@ -195,3 +195,15 @@ bool memory_cap_exceeded(uint64_t bytes, char *err, size_t errlen, const char *w
              need, (unsigned long long)(cap >> 20), memory_cap_source());
     return true;
 }
+
+void memory_cap_stopped(char *err, size_t errlen, const char *what_fmt, ...)
+{
+    if (!errlen) return;
+    va_list ap;
+    va_start(ap, what_fmt);
+    int n = vsnprintf(err, errlen, what_fmt, ap);
+    va_end(ap);
+    size_t used = n < 0 ? 0 : (size_t)n < errlen ? (size_t)n : errlen - 1;
+    snprintf(err + used, errlen - used, ": stopped by the memory cap of %llu MiB (%s); raise it with --memcap MIB",
+             (unsigned long long)memory_cap_mib(), memory_cap_source());
+}

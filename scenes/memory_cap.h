@@ -94,6 +94,12 @@ const char *memory_cap_source(void);
 bool memory_cap_exceeded(uint64_t bytes, char *err, size_t errlen, const char *what_fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
+/* One line for work the cap stopped part-way, where the bytes it would
+ * have needed are not known (a file read past the cap, a reader that ran
+ * out of memory under it): "WHAT: stopped by the memory cap of C MiB
+ * (SOURCE); raise it with --memcap MIB" (WHAT from the format). */
+void memory_cap_stopped(char *err, size_t errlen, const char *what_fmt, ...) __attribute__((format(printf, 3, 4)));
+
 /* Saturating arithmetic for estimates: an absurd request stays absurd
  * instead of wrapping to a small number. */
 static inline uint64_t memory_add(uint64_t a, uint64_t b) { return a > UINT64_MAX - b ? UINT64_MAX : a + b; }

@@ -19,6 +19,8 @@
  *   ASCII line short of its numbers (mesh_check_ply.c);
  * - STL (ASCII): a facet without a normal, of other than 3 vertices, a
  *   number missing, a solid without facets (assimp throws, and leaks);
+ *   binary: a size other than its header's triangles take (assimp then
+ *   says only that it cannot tell the file's representation);
  * - OBJ, OFF and ASCII STL vertices outside the scene range
  *   (scene.h), here where the line is known (scene_finish checks every
  *   source again).
@@ -359,14 +361,28 @@ static bool stl_numbers(char **save, double *xyz)
  * coordinates within the scene range) before the next facet or endsolid.
  * assimp throws on a facet without a normal or of other than 3 vertices,
  * on a missing number and on a solid without facets, and leaks the mesh it
- * was filling each time. Binary files pass: assimp checks their size, the
- * loader their coordinates. */
+ * was filling each time. A binary file (anything else, or "solid" followed
+ * by a NUL byte in its 80-byte header, as some writers do) must be exactly
+ * the 84 + 50 n bytes its count of n triangles takes: a cut file is named
+ * as one. The loader checks binary files' coordinates. */
 static int stl_check(const char *data, size_t size, const char *path, char *err, size_t errlen)
 {
-    uint32_t n;
+    uint32_t n = 0;
     if (size >= 84 && (memcpy(&n, data + 80, 4), 84 + 50 * (uint64_t)n == size)) return 0;
     const char *p = data + strspn(data, MESH_BLANKS "\n");
-    if ((size_t)(p - data) + 5 > size || strncmp(p, "solid", 5) != 0) return 0;
+    bool ascii = (size_t)(p - data) + 5 <= size && strncmp(p, "solid", 5) == 0 && !memchr(data, '\0', size < 80 ? size : 80);
+    if (!ascii && size < 84) {
+        snprintf(err, errlen, "%s: %zu bytes: too short for a binary STL (an 84-byte header) and not an ASCII one "
+                 "('solid' first)", path, size);
+        return -1;
+    }
+    if (!ascii) {
+        uint64_t want = 84 + 50 * (uint64_t)n;
+        snprintf(err, errlen, "%s: a binary STL %s: %zu bytes where its header's %u triangles take %llu", path,
+                 size < want ? "cut short (truncated)" : "with bytes after its triangles", size, n,
+                 (unsigned long long)want);
+        return -1;
+    }
     mesh_lines r = {data, data + size, 0, false, {0}};
     unsigned facet = 0;             /* the line of the open facet, 0 before the first */
     int nvert = 3;                  /* vertices of the open facet */

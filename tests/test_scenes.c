@@ -6,12 +6,17 @@
  * a tarball);
  * and the one-line errors for bad input, which must name the file; the
  * scene path (repository meshes found by file name, the message when one
- * is absent), named views and view specs (NAME@VIEW, --view's parser). */
+ * is absent), named views and view specs (NAME@VIEW, --view's parser);
+ * reading files: only regular ones, within the memory cap. */
+#include "../scenes/compressed.h"
+#include "../scenes/memory_cap.h"
 #include "../scenes/scene.h"
 #include "check.h"
 
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define TMP "/tmp/accelbench_test_scenes"
 
@@ -369,6 +374,45 @@ static void test_errors(void)
     expect_error(TMP "/badindex.obj", TMP "/badindex.obj: assimp:");
 }
 
+/* compressed_read on path: -1 with want in its message. */
+static void expect_read_error(const char *path, const char *want)
+{
+    file_data_t f;
+    err[0] = '\0';
+    int rc = compressed_read(path, &f, err, sizeof err);
+    CHECK_MSG(rc == -1 && strstr(err, want), "%s: rc %d, '%s' (want '%s')", path, rc, err, want);
+    if (rc == 0) compressed_free(&f);
+}
+
+/* Only regular files are read (a FIFO without a writer would block the
+ * open for ever: the alarm fails the test instead), and what is read,
+ * decompressed, stays within the memory cap: a gzip of 16 MiB of zeros
+ * stops at a cap of 4 MiB, and reads whole at 16 (the cap itself fits). */
+static void test_read_limits(void)
+{
+    alarm(60);
+    CHECK(mkfifo(TMP "/fifo.obj", 0600) == 0);
+    expect_read_error(TMP "/fifo.obj", TMP "/fifo.obj: a FIFO (named pipe), not a regular file");
+    expect_read_error("/dev/zero", "/dev/zero: a character device, not a regular file");
+    expect_read_error(TMP, TMP ": a directory, not a regular file");
+    CHECK(system("head -c 16777216 /dev/zero | gzip -1 > " TMP "/zeros.gz") == 0);
+    memory_cap_set_mib(4);
+    expect_read_error(TMP "/zeros.gz", TMP "/zeros.gz: its contents run past 4194304 bytes: stopped by the memory "
+                                       "cap of 4 MiB (--memcap 4); raise it with --memcap MIB");
+    memory_cap_set_mib(16);
+    file_data_t f;
+    CHECK_MSG(compressed_read(TMP "/zeros.gz", &f, err, sizeof err) == 0 && f.size == 16u << 20, "%s", err);
+    compressed_free(&f);
+    memory_cap_set_mib(0);
+    char line[256];
+    memory_cap_set_mib(7);
+    memory_cap_stopped(line, sizeof line, "%s: x", "f");
+    CHECK_MSG(!strcmp(line, "f: x: stopped by the memory cap of 7 MiB (--memcap 7); raise it with --memcap MIB"), "%s",
+              line);
+    memory_cap_set_mib(0);
+    alarm(0);
+}
+
 /* --- the scene path and views --- */
 
 #define SP TMP "/path"
@@ -548,6 +592,7 @@ int main(void)
     test_files();
     test_gltf();
     test_errors();
+    test_read_limits();
     test_scene_path();
     test_named_views();
     test_view_specs();
