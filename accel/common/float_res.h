@@ -10,10 +10,10 @@
  * only copies lists (the grid's list entries and the kd-tree's depth grow
  * without bound). So no builder makes a cell narrower than
  * float_res_min_cell(): FLOAT_RES_PADS slacks and FLOAT_RES_STEPS float
- * steps of the coordinates, whichever is wider. Near the origin it is far
- * below the cells any builder makes (4 pads are 1.6e-5 of a scene's
- * diagonal at most), so only subdivision that float coordinates at the
- * scene's position could not tell apart is cut. */
+ * steps of the coordinates, whichever is wider. For a scene around the
+ * origin it is far below the cells any builder makes (4 pads are at most
+ * 1.2e-5 of its diagonal), so only subdivision that float coordinates at
+ * the scene's position could not tell apart is cut. */
 #ifndef ACCELBENCH_FLOAT_RES_H
 #define ACCELBENCH_FLOAT_RES_H
 
