@@ -45,6 +45,11 @@
  *                    rays), at ~12x the grid's memory;
  *                    grid-raybox keeps Woo's rule, whose implementation it
  *                    reproduces.
+ *                    Every mode is then capped so that no cell is narrower
+ *                    than float_res_min_cell() (common/float_res.h: 4 pads,
+ *                    at least 64 float steps of the box's coordinates): far
+ *                    from the origin the slack would otherwise put each
+ *                    primitive in every nearby cell (res_x..z say what ran).
  *   density=1.0      multiplies m (auto only).
  *   insert=exact|bbox    exact / exact: a primitive goes in every voxel its
  *                    surface touches (prim_overlaps_box) or every voxel its
@@ -182,6 +187,7 @@
 #include <string.h>
 #include "accel.h"
 #include "common/mailbox.h"
+#include "common/float_res.h"
 #include "common/memcap.h"
 #include "common/prim_test.h"
 #include "common/slab.h"
@@ -402,6 +408,25 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
         }
     }
 
+    /* The grid box: the primitives' bounds, flat axes padded. */
+    box3 b = p->count && !box_is_empty(p->box) ? p->box : (box3){{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}};
+    vec3 e = box_extent(b);
+    float maxe = fmaxf(e.x, fmaxf(e.y, e.z));
+    float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(maxabs3(b.lo), maxabs3(b.hi)));
+    for (int a = 0; a < 3; a++) {
+        float *lo = a == 0 ? &b.lo.x : a == 1 ? &b.lo.y : &b.lo.z;
+        float *hi = a == 0 ? &b.hi.x : a == 1 ? &b.hi.y : &b.hi.z;
+        if (*hi - *lo <= 1e-7f * base) *lo -= 1e-3f * base, *hi += 1e-3f * base;
+    }
+    float pad = 2e-6f * fmaxf(maxabs3(b.lo), maxabs3(b.hi)) + 1e-6f * box_diagonal(b);
+    /* No cell narrower than float coordinates at the box resolve (common/float_res.h): far from the origin the
+     * slack would put every primitive in every nearby cell. */
+    float min_cell = float_res_min_cell(b, pad);
+    for (int a = 0; a < 3; a++) {
+        double fit = floor((double)(get3(b.hi, a) - get3(b.lo, a)) / min_cell);
+        if (fit < res[a]) res[a] = fit < 1 ? 1 : (int)fit;
+    }
+
     /* Memory cap, first for the cell arrays (before allocating anything). */
     uint64_t ncells = (uint64_t)res[0] * (uint64_t)res[1] * (uint64_t)res[2];
     uint64_t cell_bytes = (ncells + 1) * 4 + (voxbox ? ncells * (sizeof(box3) + 1) : 0);
@@ -427,16 +452,6 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     g->ncells = (uint32_t)ncells;
     g->stride[0] = 1, g->stride[1] = (uint32_t)res[0], g->stride[2] = (uint32_t)res[0] * (uint32_t)res[1];
 
-    /* The grid box: the primitives' bounds, flat axes padded. */
-    box3 b = p->count && !box_is_empty(p->box) ? p->box : (box3){{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}};
-    vec3 e = box_extent(b);
-    float maxe = fmaxf(e.x, fmaxf(e.y, e.z));
-    float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(maxabs3(b.lo), maxabs3(b.hi)));
-    for (int a = 0; a < 3; a++) {
-        float *lo = a == 0 ? &b.lo.x : a == 1 ? &b.lo.y : &b.lo.z;
-        float *hi = a == 0 ? &b.hi.x : a == 1 ? &b.hi.y : &b.hi.z;
-        if (*hi - *lo <= 1e-7f * base) *lo -= 1e-3f * base, *hi += 1e-3f * base;
-    }
     g->planes[0] = malloc(sizeof(float) * ((size_t)res[0] + res[1] + res[2] + 3));
     if (!g->planes[0]) goto oom;
     g->planes[1] = g->planes[0] + res[0] + 1;
@@ -451,7 +466,7 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     vec3 cs = v3(w[0], w[1], w[2]);
     g->box = b;
     g->voxdiag = v3_len(cs);
-    g->pad = 2e-6f * fmaxf(maxabs3(b.lo), maxabs3(b.hi)) + 1e-6f * box_diagonal(b);
+    g->pad = pad;
     g->clip = box_pad(b, g->pad);
 
     g->start = calloc(ncells + 1, sizeof *g->start);

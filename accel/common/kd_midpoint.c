@@ -12,12 +12,16 @@
  * so one lying in, touching or passing within rounding of the plane is in
  * both children; primitives whose bounds end more than pad below the
  * plane go below without a test (and likewise above). A cell is a leaf when it has at most
- * maxprims candidates, at maxdepth, or when its float midpoint is not
- * strictly inside it (the cell is a few ulps wide).
+ * maxprims candidates, at maxdepth, or when no axis can be halved into
+ * children at least float_res_min_cell() wide (4 pads, 64 float steps of
+ * the root's coordinates: float_res.h); an axis too narrow for that is
+ * skipped for the next one in turn. Far from the origin the slack would
+ * otherwise copy every candidate into both halves down to maxdepth.
  *
  * Scratch: the candidate lists of the cells on the current path and of the
  * above siblings waiting for their turn, charged against the memory cap. */
 #include <stdlib.h>
+#include "float_res.h"
 #include "kd_build.h"
 
 static void build(kd_builder *b, box3 cell, uint32_t *ids, uint32_t n, int depth)
@@ -25,10 +29,16 @@ static void build(kd_builder *b, box3 cell, uint32_t *ids, uint32_t n, int depth
     const kd_config *cfg = b->cfg;
     const prims_t *p = b->p;
     if (b->failed) return;
-    int axis = depth % 3;
-    float lo = kd_get(cell.lo, axis), hi = kd_get(cell.hi, axis);
-    float s = lo + 0.5f * (hi - lo);
-    if ((int)n <= cfg->maxprims || depth >= cfg->maxdepth || !(lo < s && s < hi)) {
+    /* The axis in turn, or the next one whose halves float coordinates still resolve (common/float_res.h);
+     * a leaf when none does. */
+    float minw = float_res_min_cell(b->t->box, b->t->pad), lo = 0, hi = 0, s = 0;
+    int axis = depth % 3, tries = 0;
+    for (; tries < 3; tries++, axis = (axis + 1) % 3) {
+        lo = kd_get(cell.lo, axis), hi = kd_get(cell.hi, axis);
+        s = lo + 0.5f * (hi - lo);
+        if (s - lo >= minw && hi - s >= minw) break;
+    }
+    if ((int)n <= cfg->maxprims || depth >= cfg->maxdepth || tries == 3) {
         kd_emit_leaf(b, ids, n, depth);
         return;
     }

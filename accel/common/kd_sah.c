@@ -23,7 +23,10 @@
  * is Wald-Havran's choice of a side for it. The counts at a candidate are
  * taken by cursors over the same sorted events with exactly the
  * classification's float comparisons, so the cost sees the children the
- * split makes. Where a mesh vertex is both some triangles' high end and
+ * split makes. A candidate closer than float_res_min_cell() (float_res.h: 4 pads,
+ * 64 float steps of the root's coordinates) to either end of the cell is
+ * skipped: far from the origin such a child holds every nearby primitive
+ * again, and float coordinates there cannot tell its planes apart. Where a mesh vertex is both some triangles' high end and
  * others' low end, one of the two groups straddles whichever candidate is
  * taken (Wald-Havran put both groups on their own sides): that is the price
  * of watertightness through vertices lying in a plane. Cost (pbrt-v4):
@@ -47,6 +50,7 @@
  * waiting above siblings, one side byte per primitive. */
 #include <stdlib.h>
 #include <string.h>
+#include "float_res.h"
 #include "kd_build.h"
 
 enum { EV_END = 0, EV_PLANAR = 1, EV_START = 2 };
@@ -144,7 +148,7 @@ static inline size_t next_end(const event *e, size_t m, size_t i, bool lo)
  * order from the two sorted streams; at each, two more cursors count
  * N_below = #{lo <= s + pad} and N_above = #{hi >= s - pad}, exactly the
  * classification's float comparisons. O(events). */
-static void sweep(const kd_config *c, float pad, const evlist *l, box3 cell, int a, split_t *best)
+static void sweep(const kd_config *c, float pad, float minw, const evlist *l, box3 cell, int a, split_t *best)
 {
     const event *e = ev_axis(l, a);
     size_t m = l->m[a];
@@ -164,7 +168,7 @@ static void sweep(const kd_config *c, float pad, const evlist *l, box3 cell, int
             do ib = next_end(e, m, ib + 1, false);
             while (ib < m && e[ib].pos == p0);
         }
-        if (!(lo < s && s < hi)) continue;
+        if (!(s - lo >= minw && hi - s >= minw)) continue; /* a child float coordinates cannot resolve */
         float sp = s + pad, sm = s - pad;
         for (; il < m && (!has_lo(e[il]) || e[il].pos <= sp); il++) nl += has_lo(e[il]);
         for (; ih < m && (!has_hi(e[ih]) || e[ih].pos < sm); ih++) nh += has_hi(e[ih]);
@@ -328,7 +332,7 @@ static void build(sah_ctx *x, box3 cell, evlist *l, int depth, int bad)
     float pad = b->t->pad;
     split_t best = {INFINITY, -1, 0.0f};
     if ((int64_t)l->n > c->maxprims && depth < c->maxdepth)
-        for (int a = 0; a < 3; a++) sweep(c, pad, l, cell, a, &best);
+        for (int a = 0; a < 3; a++) sweep(c, pad, float_res_min_cell(b->t->box, pad), l, cell, a, &best);
     double leaf_cost = c->isect_cost * l->n;
     if (best.axis >= 0 && best.cost > leaf_cost) bad++;
     if (best.axis < 0 || (best.cost > 4.0 * leaf_cost && l->n < 16) || bad >= 3) {

@@ -9,8 +9,9 @@
  *                      primitive goes to every child its SURFACE touches
  *                      (prim_overlaps_box on the child grown by pad). A cell
  *                      becomes a leaf with at most maxprims candidates, at
- *                      maxdepth, or when the float midpoint no longer lies
- *                      strictly inside it. kd_midpoint.c.
+ *                      maxdepth, or when no axis halves into children
+ *                      float coordinates there resolve (float_res.h; an
+ *                      axis too narrow passes to the next). kd_midpoint.c.
  *   KD_SPLIT_SAH       the surface area heuristic with pbrt-v4's
  *                      KdTreeAggregate costs and termination, built by the
  *                      O(N log N) event sweep of Wald and Havran 2006, with
