@@ -471,8 +471,9 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             return 2;
         }
     }
-    /* The memory cap, and every accelerator's memcap bounded by it, before the parameters are written down. */
-    if (resources_apply_memcap(o)) return 2;
+    /* The parameters are written down (params_str, the label: the cell key's words) before the memory cap lowers
+     * a default memcap to itself: a limit that only bounds memory does not change what a cell measures, so the
+     * same command under another ulimit -v or Slurm --mem finds its cells done. */
     for (int i = 0; i < o->naccels; i++) {
         accel_config *ac = &o->accels[i];
         accel_settle_params(ac->ops, &ac->params); /* machine-dependent values (bvh's isa=auto) as they will run */
@@ -485,6 +486,8 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
                 return 2;
             }
     }
+    /* The memory cap, and every accelerator's memcap bounded by it, for the builds. */
+    if (resources_apply_memcap(o)) return 2;
     /* A value only a build can judge (res=foo) is refused now, not at the first cell: each instance is built
      * once on an 11-primitive scene. */
     for (int i = 0; i < o->naccels; i++) {
@@ -585,6 +588,7 @@ void options_replay_command(const options *o, const char *scene, const char *wor
     for (int k = 0; k < ac->params.count; k++) {
         const accel_param *p = &ac->params.table[k];
         if (strcmp(ac->params.values[k], p->default_value) == 0) continue;
+        if (ac->memcap_bounded && !strcmp(p->name, "memcap")) continue; /* the memory cap's, not the user's */
         append_word(buf, len, "--param");
         snprintf(word, sizeof word, "%s.%s=%s", ac->ops->name, p->name, ac->params.values[k]);
         append_word(buf, len, word);
