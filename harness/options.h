@@ -8,6 +8,8 @@
 #include "workload.h"
 
 #define OPT_LIST_MAX 64
+/* The longest --out, --save-rays and --rays path, in bytes (longer ones are refused, never cut). */
+#define OPT_PATH_MAX 1023
 
 typedef struct {
     const struct accel_ops *ops;
