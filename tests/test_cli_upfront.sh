@@ -77,6 +77,8 @@ refused "--save-rays $T: a folder, but one ray set" -- "$AB" run --scenes spd:ba
 # --- a scene named twice is measured once (also through a set)
 "$AB" run --scenes "spd:balls:1,$T/a.obj,spd:balls:1" --accels grid "${TINY[@]}" --out "$T/twice" && ok || bad "twice"
 [ "$(rows "$T/twice/matrix.csv")" = 2 ] && ok || bad "a scene named twice: $(rows "$T/twice/matrix.csv") rows, want 2"
+out=$("$AB" verify --scenes "spd:balls:1,spd:balls:1" --accels grid --workloads primary --res 4x4 2>&1)
+[ "$(grep -c '^spd:balls:1 ' <<<"$out")" = 1 ] && ok || bad "verify measured a scene named twice twice: $out"
 
 # --- --rays with --workloads, and --rays given a folder
 "$AB" verify --scenes spd:balls:1 --accels exhaustive --workloads primary --res 4x4 --save-rays "$T/p.rays" >/dev/null 2>&1
