@@ -16,23 +16,31 @@ rows() { python3 -c 'import csv, sys; print(sum(1 for _ in csv.DictReader(open(s
 cols() { python3 -c 'import csv, sys; [print(*(r[c] for c in sys.argv[2:]), sep=" | ") for r in csv.DictReader(open(sys.argv[1]))]' "$@"; }
 
 # --- the memory limit is not part of a cell: the same run with and without ulimit -v (whose cap, half of it,
-# is below the accelerators' default memcap of 4096 MiB) has the same keys, params and labels, and resumes
-"$AB" run --scenes spd:balls:1 --accels grid,bsp "${TINY[@]}" --out "$T/free" && ok || bad "run without ulimit"
-(ulimit -v 3000000 && "$AB" run --scenes spd:balls:1 --accels grid,bsp "${TINY[@]}" --out "$T/capped") \
-    && ok || bad "run under ulimit -v 3000000"
+# is below the accelerators' default memcap of 4096 MiB) has the same keys, params and labels, and resumes.
+# capped CMD...: CMD under that limit. Under AddressSanitizer (scripts/test.sh's second run) no address-space
+# limit can run (its shadow memory reserves terabytes), so there the same cap is given as --memcap 1411, the
+# other way the cap is set; build/ runs these cases under ulimit -v itself.
+if ldd "$AB" 2>/dev/null | grep -q libasan; then
+    echo "note: AddressSanitizer build: the ulimit -v cases run with --memcap 1411 instead" >&2
+    capped() { "$@" --memcap 1411; }
+else
+    capped() { (ulimit -v 3000000 && exec "$@"); }
+fi
+"$AB" run --scenes spd:balls:1 --accels grid,bsp "${TINY[@]}" --out "$T/free" && ok || bad "run without a limit"
+capped "$AB" run --scenes spd:balls:1 --accels grid,bsp "${TINY[@]}" --out "$T/capped" && ok || bad "run under the limit"
 a=$(cols "$T/free/matrix.csv" params cell_key) b=$(cols "$T/capped/matrix.csv" params cell_key)
-[ -n "$a" ] && [ "$a" = "$b" ] && ok || bad "params and cell keys differ with ulimit -v: <$a> vs <$b>"
-grep -q "memcap=4096" <<<"$b" && ok || bad "params under ulimit -v do not keep the default memcap: $b"
-out=$(ulimit -v 3000000 && "$AB" run --scenes spd:balls:1 --accels grid,bsp --workloads primary --res 8x8 --repeat 1 \
-    --threads 1 --no-plots --out "$T/free" 2>&1)
+[ -n "$a" ] && [ "$a" = "$b" ] && ok || bad "params and cell keys differ under the limit: <$a> vs <$b>"
+grep -q "memcap=4096" <<<"$b" && ok || bad "params under the limit do not keep the default memcap: $b"
+out=$(capped "$AB" run --scenes spd:balls:1 --accels grid,bsp --workloads primary --res 8x8 --repeat 1 --threads 1 \
+    --no-plots --out "$T/free" 2>&1)
 grep -q "nothing to measure: all 2 cells" <<<"$out" && [ "$(rows "$T/free/matrix.csv")" = 2 ] \
-    && ok || bad "resume under ulimit -v did not find every cell done: $out"
+    && ok || bad "resume under the limit did not find every cell done: $out"
 # the label verify prints is the plain name, while the cap still bounds the build
-out=$(ulimit -v 3000000 && "$AB" verify --scenes spd:balls:1 --accels grid --workloads primary --res 8x8 2>&1)
+out=$(capped "$AB" verify --scenes spd:balls:1 --accels grid --workloads primary --res 8x8 2>&1)
 grep -qE "^spd:balls:1 +primary +grid +" <<<"$out" && ! grep -q "memcap" <<<"$out" \
-    && ok || bad "verify's label under ulimit -v: $out"
-refused "over memcap=1[0-9]{3} MiB" -- bash -c 'ulimit -v 3000000 && exec "$0" verify --scenes spd:balls:1 \
-    --accels "grid[res=1000x1000x1000]" --workloads primary --res 8x8' "$AB"
+    && ok || bad "verify's label under the limit: $out"
+out=$(capped "$AB" verify --scenes spd:balls:1 --accels "grid[res=1000x1000x1000]" --workloads primary --res 8x8 2>&1)
+[ $? = 2 ] && grep -qE "over memcap=1[0-9]{3} MiB" <<<"$out" && ok || bad "the limit did not bound the build: $out"
 
 # --- --accels sweeps: counted before they are expanded, the limit (63) named
 s=$(python3 -c "print('grid[' + ','.join(['memcap=1000|2000|3000'] * 40) + ']')")
