@@ -72,7 +72,7 @@ long=$T/$(printf 'd%.0s' {1..1100})
 refused "--out '.*': a path of 11[0-9]{2} bytes, more than 1023" -- "$AB" run --scenes spd:balls:1 --out "$long"
 refused "--save-rays '.*': a path of 11[0-9]{2} bytes" -- "$AB" verify --scenes spd:balls:1 --save-rays "$long"
 refused "merge: --out '.*': a path of 11[0-9]{2} bytes, more than 1023" -- "$AB" merge "$T/free" --out "$long" --no-plots
-[ ! -e "${long:0:1020}" ] && ok || bad "a cut --out folder was made"
+! ls "$T" | grep -q '^ddd' && ok || bad "a folder of a cut --out name was made"
 long=$T/$(printf 's%.0s' {1..300}).obj
 refused "a name of 3[0-9]{2} bytes, more than 255" -- "$AB" verify --scenes "$long"
 touch "$T/afile"
