@@ -37,6 +37,11 @@ static int parse_body(char *body, const char *item, spec_kv *kv, char *err, size
             return -1;
         }
         *eq = 0;
+        if (strlen(tok) >= sizeof kv[n].key) {
+            snprintf(err, errlen, "--accels '%.120s': parameter '%.40s...' has a name longer than %zu bytes", item, tok,
+                     sizeof kv[n].key - 1);
+            return -1;
+        }
         snprintf(kv[n].key, sizeof kv[n].key, "%s", tok);
         kv[n].nvalues = 0;
         char *v = eq + 1;
@@ -99,11 +104,18 @@ static int expand_item(const char *item, accel_config *out, int max, char *err, 
     spec_kv kv[SPEC_KEYS];
     int nkv = body ? parse_body(body, item, kv, err, errlen) : 0;
     if (nkv < 0) return -1;
+    /* Counted before anything is expanded, and stopped as soon as it passes max: the product of many lists
+     * overflows any integer. */
     long total = 1;
-    for (int k = 0; k < nkv; k++) total *= kv[k].nvalues;
-    if (total > max) {
-        snprintf(err, errlen, "--accels '%s': %ld instances, more than the %d left (at most %d accelerators)", item,
-                 total, max, OPT_LIST_MAX);
+    bool over = false;
+    for (int k = 0; k < nkv && !over; k++) {
+        total *= kv[k].nvalues;
+        over = total > max;
+    }
+    if (over) {
+        /* The item is cut in the message so that the limit stays on the line. */
+        snprintf(err, errlen, "--accels '%.120s%s': its '|' lists expand to more than the %d instances left (at most "
+                 "%d accelerators in all)", item, strlen(item) > 120 ? "..." : "", max, OPT_LIST_MAX - 1);
         return -1;
     }
     int idx[SPEC_KEYS] = {0};

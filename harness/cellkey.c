@@ -1,6 +1,7 @@
 /* cellkey.c: run ids and cell keys (see cellkey.h). */
 #include "cellkey.h"
 
+#include <ctype.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
@@ -77,4 +78,26 @@ int cell_key_format(const cell_key_parts *k, char *buf, size_t len)
     n = put_word(buf, len, n, "repeat", v);
     if (k->warm) n = put_word(buf, len, n, "passes", "warm");
     return n < len ? 0 : -1;
+}
+
+int cell_key_value(const char *key, const char *name, char *buf, size_t len)
+{
+    size_t nl = strlen(name);
+    for (const char *w = key; w && *w; w = strchr(w, ' ') ? strchr(w, ' ') + 1 : NULL) {
+        if (strncmp(w, name, nl) != 0 || w[nl] != '=') continue;
+        size_t n = 0;
+        for (const char *c = w + nl + 1; *c && *c != ' '; c++) {
+            unsigned v;
+            char ch = *c;
+            if (*c == '%' && sscanf(c + 1, "%2x", &v) == 1 && isxdigit((unsigned char)c[1]) && isxdigit((unsigned char)c[2])) {
+                ch = (char)v;
+                c += 2;
+            }
+            if (n + 1 >= len) return -1;
+            buf[n++] = ch;
+        }
+        buf[n] = 0;
+        return 0;
+    }
+    return -1;
 }

@@ -52,4 +52,8 @@ typedef struct {
  * (buf then holds a cut key that must not be used). */
 int cell_key_format(const cell_key_parts *k, char *buf, size_t len);
 
+/* The value of word NAME of a key, %XX decoded, into buf. Returns 0, or -1
+ * when the key has no such word or it does not fit. */
+int cell_key_value(const char *key, const char *name, char *buf, size_t len);
+
 #endif

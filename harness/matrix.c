@@ -76,26 +76,51 @@ static int save_rays_check(const options *o, int nsets)
 {
     if (!o->save_rays) return 0;
     if (nsets > 1) {
-        if (mkdir_p(o->save_rays) == 0) return 0;
-        fprintf(stderr, "accelbench: --save-rays %s: cannot create folder: %s\n", o->save_rays, strerror(errno));
+        if (mkdir_p(o->save_rays) != 0) {
+            fprintf(stderr, "accelbench: --save-rays %s: cannot create folder: %s\n", o->save_rays, strerror(errno));
+            return 2;
+        }
+        struct stat st;
+        if (stat(o->save_rays, &st) != 0 || !S_ISDIR(st.st_mode)) {
+            fprintf(stderr, "accelbench: --save-rays %s: not a folder (%d ray sets are saved to a folder)\n",
+                    o->save_rays, nsets);
+            return 2;
+        }
+        if (access(o->save_rays, W_OK | X_OK) == 0) return 0;
+        fprintf(stderr, "accelbench: --save-rays %s: cannot write in the folder: %s\n", o->save_rays, strerror(errno));
         return 2;
     }
     char dir[PATH_MAX];
     snprintf(dir, sizeof dir, "%s", o->save_rays);
     char *slash = strrchr(dir, '/');
-    if (!slash) return 0;
-    if (slash == dir) slash[1] = 0;
+    if (!slash) snprintf(dir, sizeof dir, ".");
+    else if (slash == dir) slash[1] = 0;
     else *slash = 0;
     struct stat st;
-    if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
-    fprintf(stderr, "accelbench: --save-rays %s: folder %s does not exist\n", o->save_rays, dir);
+    if (stat(o->save_rays, &st) == 0 && S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "accelbench: --save-rays %s: a folder, but one ray set is saved to a file: name the file\n",
+                o->save_rays);
+        return 2;
+    }
+    if (stat(o->save_rays, &st) == 0 && !S_ISREG(st.st_mode)) { /* a device or a pipe is written directly */
+        if (access(o->save_rays, W_OK) == 0) return 0;
+        fprintf(stderr, "accelbench: --save-rays %s: cannot write: %s\n", o->save_rays, strerror(errno));
+        return 2;
+    }
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "accelbench: --save-rays %s: folder %s does not exist\n", o->save_rays, dir);
+        return 2;
+    }
+    /* The set goes to a temporary file in that folder, renamed onto the name (save_rays_file). */
+    if (access(dir, W_OK | X_OK) == 0) return 0;
+    fprintf(stderr, "accelbench: --save-rays %s: cannot write in folder %s: %s\n", o->save_rays, dir, strerror(errno));
     return 2;
 }
 
 /* Save one ray set (--save-rays). Returns 0, or -1 after printing why. */
 static int save_rays(const options *o, const rayset_t *rs, int nsets)
 {
-    char path[1024], err[2200];
+    char path[PATH_MAX], err[PATH_MAX + 1100];
     save_rays_path(o, rs, nsets, path, sizeof path);
     if (nsets > 1 && mkdir_p(o->save_rays)) {
         fprintf(stderr, "accelbench: --save-rays %s: cannot create folder: %s\n", o->save_rays, strerror(errno));
@@ -319,9 +344,6 @@ static void print_found(const options *o, const char *csv_path, const results_fo
     if (f->torn_line)
         fprintf(stderr, "accelbench: %s: line %d: a torn row (%s), left by a run killed while writing it: dropped; "
                         "its cell runs again\n", csv_path, f->torn_line, f->torn_why);
-    if (f->duplicates)
-        fprintf(stderr, "accelbench: warning: %s: %d rows repeat the cell key of an earlier row (not written by this "
-                        "program); the last of each counts\n", csv_path, f->duplicates);
     if (f->rows == 0) return; /* said even with --quiet: it decides what this run measures */
     char runs[32] = "";
     if (f->runs > 0) snprintf(runs, sizeof runs, " from %d run%s", f->runs, f->runs == 1 ? "" : "s");

@@ -179,6 +179,11 @@ int merge_main(int argc, char **argv)
                 nd < 1 ? "no shard folder given" : "no --out DIR given");
         return 2;
     }
+    if (strlen(out) > OPT_PATH_MAX) { /* refused, never cut */
+        fprintf(stderr, "accelbench merge: --out '%.60s...': a path of %zu bytes, more than %d\n", out, strlen(out),
+                OPT_PATH_MAX);
+        return 2;
+    }
     char out_real[PATH_MAX];
     bool out_exists = realpath(out, out_real) != NULL;
     shard_dir *d = calloc((size_t)nd, sizeof *d);
@@ -191,10 +196,20 @@ int merge_main(int argc, char **argv)
     csv_header(header, sizeof header - 1);
     size_t header_len = strlen(header);
     int ncols = csv_columns(), key_col = csv_column_index("cell_key"), git_col = csv_column_index("git_rev");
+    /* The columns a row's cell key names too: a row whose column says otherwise is refused. */
+    static const char *const keyed[] = {"scene", "accel", "params", "workload", "repeat"};
+    int keyed_col[5];
+    for (int k = 0; k < 5; k++) keyed_col[k] = csv_column_index(keyed[k]);
 
     /* Every folder: its manifest and its CSV, read whole. */
     for (int i = 0; i < nd && !status; i++) {
         d[i].dir = argv[optind + i];
+        if (strlen(d[i].dir) > OPT_PATH_MAX) { /* DIR/matrix.csv and DIR/shard.txt must fit uncut */
+            fprintf(stderr, "accelbench merge: '%.60s...': a folder path of %zu bytes, more than %d\n", d[i].dir,
+                    strlen(d[i].dir), OPT_PATH_MAX);
+            status = 2;
+            break;
+        }
         char real[PATH_MAX], path[PATH_MAX + 32];
         if (out_exists && realpath(d[i].dir, real) && !strcmp(real, out_real)) {
             fprintf(stderr, "accelbench merge: --out %s is one of the shard folders; choose another\n", out);
@@ -215,6 +230,12 @@ int merge_main(int argc, char **argv)
         }
         const char *nl = memchr(d[i].csv, '\n', d[i].csv_len);
         size_t first = nl ? (size_t)(nl - d[i].csv) : d[i].csv_len;
+        if (d[i].csv_len >= 3 && memcmp(d[i].csv, "\xEF\xBB\xBF", 3) == 0) {
+            fprintf(stderr, "accelbench merge: %s: starts with a UTF-8 byte-order mark, which run never writes; remove "
+                            "those 3 bytes\n", path);
+            status = 2;
+            break;
+        }
         if (!nl || first != header_len || memcmp(d[i].csv, header, header_len)) {
             fprintf(stderr, "accelbench merge: %s: not this version's columns (its header differs from accelbench %s's)\n",
                     path, ACCELBENCH_GIT_REV);
@@ -270,9 +291,11 @@ int merge_main(int argc, char **argv)
     for (int i = 0; i < nd && !status; i++) {
         shard_seen[d[i].m.k]++;
         const char *t = d[i].csv;
-        size_t n = d[i].csv_len, off = header_len + 1;
+        size_t n = d[i].csv_len, off = header_len + 1, counted = off;
         csv_span sp[256];
-        while (off < n) {
+        int line = 2; /* of the record at off: the line breaks before it counted */
+        while (off < n && !status) {
+            for (; counted < off; counted++) line += d[i].csv[counted] == '\n';
             int nf;
             bool complete;
             size_t len = csv_split_record(t + off, n - off, &nf, &complete, sp, 256);
@@ -287,6 +310,20 @@ int merge_main(int argc, char **argv)
             char key[CELL_KEY_MAX], rev[128];
             csv_field(t + off, sp[key_col], key, sizeof key);
             csv_field(t + off, sp[git_col], rev, sizeof rev);
+            for (int k = 0; k < 5 && !status; k++) {
+                char col[CELL_KEY_MAX], want[CELL_KEY_MAX];
+                csv_field(t + off, sp[keyed_col[k]], col, sizeof col);
+                if (cell_key_value(key, keyed[k], want, sizeof want) != 0) continue;
+                /* a value a spreadsheet would run may be written with a leading ' (the CSV documentation) */
+                bool quoted = col[0] == '\'' && want[0] && strchr("=+-@", want[0]) && !strcmp(col + 1, want);
+                if (strcmp(col, want) != 0 && !quoted) {
+                    fprintf(stderr, "accelbench merge: %s/matrix.csv: line %d: column %s is '%s' but its cell key says "
+                                    "'%s': a row edited by hand? (mend or drop it)\n", d[i].dir, line, keyed[k], col,
+                            want);
+                    status = 2;
+                }
+            }
+            if (status) break;
             key_ref probe = {key, 0}, *hit = bsearch(&probe, keys, (size_t)ncells, sizeof *keys, by_key);
             if (!hit) {
                 if (extra++ < 50) LIST("  not of this matrix: %s (in %s)\n", key, d[i].dir);

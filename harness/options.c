@@ -165,16 +165,47 @@ static int parse_long(const char *opt, const char *s, long lo, long hi, long *ou
     return 0;
 }
 
+/* One side of --res: digits only, read without wrapping (sscanf's %d wraps 4294967360 to 64). */
+static bool parse_side(const char *s, const char *end, long *out)
+{
+    if (s == end || end - s > 9) return false;
+    long v = 0;
+    for (const char *c = s; c < end; c++) {
+        if (*c < '0' || *c > '9') return false;
+        v = v * 10 + (*c - '0');
+    }
+    *out = v;
+    return true;
+}
+
 static int parse_res(const char *s, workload_opts *w)
 {
-    int x, y;
-    char tail;
-    if (sscanf(s, "%dx%d%c", &x, &y, &tail) != 2 || x < 1 || y < 1 || x > IMAGE_SIDE_MAX || y > IMAGE_SIDE_MAX) {
+    const char *x = strchr(s, 'x');
+    long wd, ht;
+    if (!x || !parse_side(s, x, &wd) || !parse_side(x + 1, x + 1 + strlen(x + 1), &ht) || wd < 1 || ht < 1 ||
+        wd > IMAGE_SIDE_MAX || ht > IMAGE_SIDE_MAX) {
         fprintf(stderr, "accelbench: --res %s: expected WxH with 1 <= W, H <= %d\n", s, IMAGE_SIDE_MAX);
         return -1;
     }
-    w->width = x;
-    w->height = y;
+    w->width = (int)wd;
+    w->height = (int)ht;
+    return 0;
+}
+
+/* A path option's value: refused over OPT_PATH_MAX bytes, since the names made from it (DIR/matrix.csv, the ray
+ * files of --save-rays, temporary files beside them) must fit the harness's path buffers uncut. */
+static int check_path(const char *opt, const char *path)
+{
+    size_t n = strlen(path);
+    if (n == 0) {
+        fprintf(stderr, "accelbench: --%s: an empty path\n", opt);
+        return -1;
+    }
+    if (n > OPT_PATH_MAX) {
+        fprintf(stderr, "accelbench: --%s '%.60s...': a path of %zu bytes, more than %d (use a shorter path, or a "
+                        "symbolic link to the folder)\n", opt, path, n, OPT_PATH_MAX);
+        return -1;
+    }
     return 0;
 }
 
@@ -261,6 +292,10 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
                     list = parts;
                 }
                 for (int k = 0; k < m; k++) {
+                    /* A scene named twice (itself, or within a set) is one set of cells, measured once. */
+                    bool listed = false;
+                    for (int j = 0; j < o->nscenes && !listed; j++) listed = !strcmp(o->scenes[j], list[k]);
+                    if (listed) continue;
                     if (o->nscenes == OPT_LIST_MAX) {
                         fprintf(stderr, "accelbench: too many scenes (at most %d)\n", OPT_LIST_MAX);
                         return 2;
@@ -288,12 +323,12 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             o->wl.seed = s;
             break;
         }
-        case 'o': o->out = optarg; break;
+        case 'o': if (check_path("out", optarg)) return 2; o->out = optarg; break;
         case OPT_SPP: if (parse_long("spp", optarg, 1, 4096, &v)) return 2; o->wl.spp = (int)v; break;
         case OPT_DEPTH: if (parse_long("depth", optarg, 1, 64, &v)) return 2; o->wl.depth = (int)v; break;
         case OPT_CORNERS: o->wl.corners = true; break;
-        case OPT_SAVE_RAYS: o->save_rays = optarg; break;
-        case OPT_RAYS: o->rays_file = optarg; break;
+        case OPT_SAVE_RAYS: if (check_path("save-rays", optarg)) return 2; o->save_rays = optarg; break;
+        case OPT_RAYS: if (check_path("rays", optarg)) return 2; o->rays_file = optarg; break;
         case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
         case OPT_NO_PLOTS: o->plots = false; break;
         case OPT_REPORT:
@@ -401,6 +436,14 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     }
     o->res_given = res_given;
     if (o->view) add_view(o);
+    for (int i = 0; i < o->nscenes; i++) { /* the name goes uncut into the scene, its ray sets and the CSV */
+        size_t n = strlen(o->scenes[i]), most = sizeof ((scene_t *)0)->name - 1;
+        if (n > most) {
+            fprintf(stderr, "accelbench: scene '%.60s...': a name of %zu bytes%s, more than %zu (use a shorter path, "
+                            "or a symbolic link to the file)\n", o->scenes[i], n, o->view ? " with its --view" : "", most);
+            return 2;
+        }
+    }
     /* An absent repository mesh or a bad view fails now, not after the
      * scenes before it have run. */
     for (int i = 0; i < o->nscenes; i++) {
@@ -448,6 +491,10 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     }
     for (int k = 0; k < nparams; k++) {
         char buf[256];
+        if (strlen(params[k]) >= sizeof buf) {
+            fprintf(stderr, "accelbench: --param '%.60s...': longer than %zu bytes\n", params[k], sizeof buf - 1);
+            return 2;
+        }
         snprintf(buf, sizeof buf, "%s", params[k]);
         char *dot = strchr(buf, '.'), *eq = strchr(buf, '=');
         if (!dot || !eq || eq < dot) {
@@ -471,8 +518,9 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             return 2;
         }
     }
-    /* The memory cap, and every accelerator's memcap bounded by it, before the parameters are written down. */
-    if (resources_apply_memcap(o)) return 2;
+    /* The parameters are written down (params_str, the label: the cell key's words) before the memory cap lowers
+     * a default memcap to itself: a limit that only bounds memory does not change what a cell measures, so the
+     * same command under another ulimit -v or Slurm --mem finds its cells done. */
     for (int i = 0; i < o->naccels; i++) {
         accel_config *ac = &o->accels[i];
         accel_settle_params(ac->ops, &ac->params); /* machine-dependent values (bvh's isa=auto) as they will run */
@@ -485,6 +533,8 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
                 return 2;
             }
     }
+    /* The memory cap, and every accelerator's memcap bounded by it, for the builds. */
+    if (resources_apply_memcap(o)) return 2;
     /* A value only a build can judge (res=foo) is refused now, not at the first cell: each instance is built
      * once on an 11-primitive scene. */
     for (int i = 0; i < o->naccels; i++) {
@@ -523,6 +573,11 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
                 if (!listed) o->workloads[o->nworkloads++] = parts[k];
             }
         }
+    }
+    if (o->rays_file && workloads_arg) {
+        fprintf(stderr, "accelbench: --rays replays the ray set of its file and --workloads makes new ones: give one "
+                        "of them\n");
+        return 2;
     }
     if (o->rays_file && o->nscenes != 1) {
         fprintf(stderr, "accelbench: --rays replays one ray set: give exactly one scene\n");
@@ -585,6 +640,7 @@ void options_replay_command(const options *o, const char *scene, const char *wor
     for (int k = 0; k < ac->params.count; k++) {
         const accel_param *p = &ac->params.table[k];
         if (strcmp(ac->params.values[k], p->default_value) == 0) continue;
+        if (ac->memcap_bounded && !strcmp(p->name, "memcap")) continue; /* the memory cap's, not the user's */
         append_word(buf, len, "--param");
         snprintf(word, sizeof word, "%s.%s=%s", ac->ops->name, p->name, ac->params.values[k]);
         append_word(buf, len, word);

@@ -8,12 +8,16 @@
 #include "workload.h"
 
 #define OPT_LIST_MAX 64
+/* The longest --out, --save-rays and --rays path, in bytes (longer ones are refused, never cut). */
+#define OPT_PATH_MAX 1023
 
 typedef struct {
     const struct accel_ops *ops;
     accel_params params;
     char params_str[512]; /* every parameter, "k=v,k=v" in table order (the CSV's params) */
     char label[600];      /* name, with [params] when they differ from the defaults */
+    bool memcap_bounded;  /* params' memcap is the default lowered to the memory cap (resources.h): params_str,
+                           * label and replay commands keep the default */
 } accel_config;
 
 typedef struct {

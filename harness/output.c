@@ -15,6 +15,10 @@
 int mkdir_p(const char *path)
 {
     char buf[1024];
+    if (strlen(path) >= sizeof buf) { /* never a folder of a cut name */
+        errno = ENAMETOOLONG;
+        return -1;
+    }
     snprintf(buf, sizeof buf, "%s", path);
     for (char *p = buf + 1; *p; p++)
         if (*p == '/') {
@@ -27,6 +31,11 @@ int mkdir_p(const char *path)
 
 int output_folder(const char *given, const char *prefix, char *out, size_t outlen)
 {
+    if (given && strlen(given) >= outlen) {
+        fprintf(stderr, "accelbench: --out '%.60s...': a path of %zu bytes, more than %zu\n", given, strlen(given),
+                outlen - 1);
+        return 2;
+    }
     if (given) snprintf(out, outlen, "%s", given);
     else {
         char stamp[32];

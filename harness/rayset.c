@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <stddef.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* Version 3: rays carry their origin primitive (ray_t.origin). Version 2
  * had 0 in that field on every ray, which would read as "leaves primitive
@@ -250,6 +251,12 @@ rayset_t *rayset_load(const char *path, char *err, size_t errlen)
     FILE *f = fopen(path, "rb");
     if (!f) {
         snprintf(err, errlen, "%s: cannot open ray file: %s", path, strerror(errno));
+        return NULL;
+    }
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) { /* fopen opens a folder; its "size" is LONG_MAX */
+        snprintf(err, errlen, "%s: a folder, not a ray file (give the file --save-rays wrote)", path);
+        fclose(f);
         return NULL;
     }
     long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;

@@ -299,9 +299,9 @@ meas *rp_measure(rp_kit *k, const char *table, const char *variant, const char *
         return NULL;
     }
     ac.params.threads = k->timed_threads;
-    if (resources_bound_memcap_param(ac.ops->name, &ac.params)) return NULL; /* its memcap within --memcap */
     accel_settle_params(ac.ops, &ac.params); /* machine-dependent values as they will run */
-    params_format(&ac.params, ac.params_str, sizeof ac.params_str);
+    params_format(&ac.params, ac.params_str, sizeof ac.params_str); /* the memcap given, not the cap's (resources.h) */
+    if (resources_bound_memcap_param(ac.ops->name, &ac.params)) return NULL; /* its memcap within --memcap */
     snprintf(ac.label, sizeof ac.label, "%s", name);
 
     for (int i = 0; i < k->nmeas; i++) {

@@ -14,8 +14,10 @@
  * The accelerators' own caps: an accelerator parameter named memcap (MiB,
  * accel/common/memcap.h) left at its default is lowered to the harness's
  * cap, min(its default, --memcap); one given above the cap is refused, so
- * --memcap bounds everything a command builds. The CSV's params column
- * shows the memcap that applied. */
+ * --memcap bounds everything a command builds. The CSV's params column,
+ * the cell key and the accelerator's label keep the memcap given (its
+ * default unless --param or --accels set it): the cap bounds memory, it
+ * does not change what a cell measures. */
 #ifndef ACCELBENCH_RESOURCES_H
 #define ACCELBENCH_RESOURCES_H
 

@@ -294,6 +294,13 @@ static int load_rows(results_store *s, results_found *found, char *err, size_t e
     }
     s->size = (off_t)n;
     int rc = 0;
+    if (n >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) { /* a spreadsheet's save: said as it is, not as columns */
+        snprintf(err, errlen, "%s: starts with a UTF-8 byte-order mark, which this program never writes; remove those 3 "
+                              "bytes or choose a new --out", s->path);
+        free(text);
+        *status = 2;
+        return -1;
+    }
     const char *nl = memchr(text, '\n', n);
     size_t first = nl ? (size_t)(nl - text) : n;
     size_t cmp_len = first && text[first - 1] == '\r' ? first - 1 : first;
@@ -365,7 +372,13 @@ static int load_rows(results_store *s, results_found *found, char *err, size_t e
             rc = -1;
             break;
         }
-        found->duplicates += dup;
+        if (dup) { /* this program writes a cell once: which row counts would be a guess */
+            snprintf(err, errlen, "%s: line %d: cell %s is in an earlier row too (a cell has one row); mend the file "
+                                  "or choose a new --out", s->path, line, s->rec[s->nrec - 1].key);
+            *status = 2;
+            rc = -1;
+            break;
+        }
         for (size_t i = off; i < off + len; i++) line += text[i] == '\n';
         off += len;
     }

@@ -5,9 +5,10 @@
  * last record (no line break at the end of the file, or another field
  * count than the header's: a run killed mid-row) is dropped from the file
  * with a message, and so is a header cut short; a malformed record before
- * the last is refused (nothing this program writes leaves one). Every
- * record's cell key (cellkey.h) is then known, so a run can ask which of
- * its cells are done.
+ * the last is refused (nothing this program writes leaves one), and so
+ * are a second row of one cell key (named by its line and key) and a file
+ * that starts with a UTF-8 byte-order mark. Every record's cell key
+ * (cellkey.h) is then known, so a run can ask which of its cells are done.
  *
  * Writing a row appends it with one write(2) (and fdatasync), or, when a
  * row of the same cell key is there (run --redo), rewrites the whole file
@@ -36,7 +37,6 @@ typedef struct {
     int runs;           /* distinct run ids among them */
     int torn_line;      /* line number of a dropped torn record, or 0 */
     char torn_why[96];  /* "no line break at the end of the file", "12 fields, expected 58" */
-    int duplicates;     /* rows whose cell key an earlier row has (another program's doing: the last counts) */
     bool header_written; /* the file was new (or empty, or only a cut header) */
 } results_found;
 
@@ -48,7 +48,7 @@ typedef struct {
 results_store *results_open(const char *dir, const char *path, results_found *found, char *err, size_t errlen,
                             int *status);
 
-/* The run id of the row of cell `key` (the last one, with duplicates), or
+/* The run id of the row of cell `key`, or
  * NULL when no row has that key. git_rev, when not NULL, gets that row's
  * git_rev column. */
 const char *results_find(const results_store *s, const char *key, const char **git_rev);

@@ -42,6 +42,11 @@ static int spawn_wait(char *const argv[])
 int report_write(const char *dir, const char *out_html, const char *pictures, bool quiet)
 {
     char csv[PATH_MAX], out[PATH_MAX], script[PATH_MAX], self[PATH_MAX];
+    if (strlen(dir) + sizeof "/report.html" > sizeof out || (out_html && strlen(out_html) >= sizeof out)) {
+        fprintf(stderr, "accelbench report: %.60s...: a path longer than %zu bytes\n", out_html ? out_html : dir,
+                sizeof out - sizeof "/report.html");
+        return 2;
+    }
     if (!is_dir(dir)) {
         fprintf(stderr, "accelbench report: %s: no such folder\n", dir);
         return 2;

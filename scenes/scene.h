@@ -83,7 +83,8 @@ typedef struct scene {
 scene_t *scene_load(const char *name, char *err, size_t errlen);
 void scene_free(scene_t *s);
 /* What scene_load(name) would refuse without reading any file: a bad or
- * unknown view, a catalogue mesh that is absent. Returns 0, or -1 with
+ * unknown view, a catalogue mesh that is absent, an unknown name, a scene
+ * file that does not exist, cannot be read or is a folder. Returns 0, or -1 with
  * scene_load's one-line reason; so a command can refuse before its work. */
 int scene_check(const char *name, char *err, size_t errlen);
 

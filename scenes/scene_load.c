@@ -17,6 +17,7 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 /* Parse a whole decimal int in [lo, hi]; false if s is not one. */
 static bool parse_int(const char *s, int lo, int hi, int *out)
@@ -232,6 +233,32 @@ int scene_check(const char *name, char *err, size_t errlen)
     if (catalogue_has(base) && !catalogue_locate(base, file, sizeof file, err, errlen)) return -1;
     int size, res; /* a generator's name, size and resolution, as load_spd reads them */
     if (strncmp(base, "spd:", 4) == 0 && !parse_spd(base, &size, &res, err, errlen)) return -1;
+    if (!strncmp(base, "spd:", 4) || !strcmp(base, "gen:room") || !strcmp(base, "gen:room:empty") || catalogue_has(base))
+        return 0;
+    /* Every other name is read as load_base reads it, so that a typo or a missing file fails before the scenes
+     * before it have run: a file (its disk file, the archive of ARCHIVE#MEMBER) must exist and be readable. */
+    const char *path = !strncmp(base, "file:", 5) ? base + 5 : base;
+    if (path == base && !looks_like_path(base)) {
+        scene_t *none = load_base(base, err, errlen); /* words the error (unknown scene, gen:, set:) */
+        if (!none) return -1;
+        scene_free(none);
+        return 0;
+    }
+    if (!*path) {
+        snprintf(err, errlen, "file: needs a path, as in file:PATH");
+        return -1;
+    }
+    char disk[4096];
+    struct stat st;
+    compressed_disk_file(path, disk, sizeof disk);
+    if (stat(disk, &st) != 0 || access(disk, R_OK) != 0) {
+        snprintf(err, errlen, "scene '%s': %s: %s", name, disk, strerror(errno));
+        return -1;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        snprintf(err, errlen, "scene '%s': %s is a folder, not a scene file", name, disk);
+        return -1;
+    }
     return 0;
 }
 

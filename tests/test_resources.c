@@ -352,8 +352,10 @@ static void test_accel_memcap(void)
     const char *low[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--memcap", "100", NULL};
     CHECK(parse(&o, low) == 0);
     CHECK_MSG(!strcmp(memcap_value(&o), "100"), "grid.memcap=%s under --memcap 100", memcap_value(&o));
-    CHECK_MSG(strstr(o.accels[0].params_str, "memcap=100") && strstr(o.accels[0].label, "memcap=100"), "%s / %s",
-              o.accels[0].params_str, o.accels[0].label);
+    /* the cap bounds the build, not what the cell is: params_str (the CSV's params, the cell key) and the label
+     * keep the default */
+    CHECK_MSG(strstr(o.accels[0].params_str, "memcap=4096") && !strcmp(o.accels[0].label, "grid") &&
+              o.accels[0].memcap_bounded, "%s / %s", o.accels[0].params_str, o.accels[0].label);
     options_free(&o);
     const char *high[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--memcap", "100000", NULL};
     CHECK(parse(&o, high) == 0);
@@ -362,6 +364,8 @@ static void test_accel_memcap(void)
     const char *given[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--param", "grid.memcap=50",
                            "--memcap", "100", NULL};
     CHECK(parse(&o, given) == 0 && !strcmp(memcap_value(&o), "50"));
+    CHECK_MSG(strstr(o.accels[0].params_str, "memcap=50") && !strcmp(o.accels[0].label, "grid[memcap=50]") &&
+              !o.accels[0].memcap_bounded, "%s / %s", o.accels[0].params_str, o.accels[0].label);
     options_free(&o);
     const char *above[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--param", "grid.memcap=200",
                            "--memcap", "100", NULL};
