@@ -45,6 +45,10 @@
  *                    rays), at ~12x the grid's memory;
  *                    grid-raybox keeps Woo's rule, whose implementation it
  *                    reproduces.
+ *                    n counts coincident primitives once (copies of a
+ *                    triangle: common/coincident.h), so a mesh of repeated
+ *                    faces gets the grid of its distinct ones, each cell
+ *                    listing every copy.
  *   density=1.0      multiplies m (auto only).
  *   insert=exact|bbox    exact / exact: a primitive goes in every voxel its
  *                    surface touches (prim_overlaps_box) or every voxel its
@@ -181,6 +185,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "accel.h"
+#include "common/coincident.h"
 #include "common/mailbox.h"
 #include "common/memcap.h"
 #include "common/prim_test.h"
@@ -381,18 +386,24 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
         return NULL;
 
     const prims_t *p = &scene->prims;
+    /* Coincident copies (common/coincident.h) count once in the resolution's
+     * n: copies of one triangle share every cell it touches, so cells made
+     * for them would only multiply their lists. */
+    prim_classes pc;
+    if (prim_classes_init(&pc, p)) pc.classes = p->count;
+    prim_classes_free(&pc);
     int res[3];
     const char *rs = params_get(params, "res");
     double cubic_d;
     char tail;
     if (strcmp(rs, "auto") == 0) {
-        grid_auto_resolution(p->count ? p->box : box_empty(), p->count, density, res);
+        grid_auto_resolution(p->count ? p->box : box_empty(), pc.classes, density, res);
     } else if (strncmp(rs, "cubic:", 6) == 0) {
         if (sscanf(rs + 6, "%lf%c", &cubic_d, &tail) != 1 || !(cubic_d > 0 && cubic_d <= 1e4)) {
             snprintf(err, errlen, "res=%s: cubic:D needs D, the cells per primitive, in (0, 10000]", rs);
             return NULL;
         }
-        grid_cubic_resolution(p->count ? p->box : box_empty(), p->count, cubic_d, res);
+        grid_cubic_resolution(p->count ? p->box : box_empty(), pc.classes, cubic_d, res);
     } else {
         char extra;
         if (sscanf(rs, "%dx%dx%d%c", &res[0], &res[1], &res[2], &extra) != 3 || res[0] < 1 || res[1] < 1 ||

@@ -12,8 +12,11 @@
  * so one lying in, touching or passing within rounding of the plane is in
  * both children; primitives whose bounds end more than pad below the
  * plane go below without a test (and likewise above). A cell is a leaf when it has at most
- * maxprims candidates, at maxdepth, or when its float midpoint is not
- * strictly inside it (the cell is a few ulps wide).
+ * maxprims candidates, coincident ones counted once (coincident.h: copies of
+ * a triangle fall on both sides of every plane through it, so no midpoint
+ * separates them and the old count sent them to maxdepth), at maxdepth, or
+ * when its float midpoint is not strictly inside it (the cell is a few ulps
+ * wide).
  *
  * Scratch: the candidate lists of the cells on the current path and of the
  * above siblings waiting for their turn, charged against the memory cap. */
@@ -28,7 +31,8 @@ static void build(kd_builder *b, box3 cell, uint32_t *ids, uint32_t n, int depth
     int axis = depth % 3;
     float lo = kd_get(cell.lo, axis), hi = kd_get(cell.hi, axis);
     float s = lo + 0.5f * (hi - lo);
-    if ((int)n <= cfg->maxprims || depth >= cfg->maxdepth || !(lo < s && s < hi)) {
+    if (prim_classes_at_most(&b->classes, ids, n, (uint64_t)(cfg->maxprims < 0 ? 0 : cfg->maxprims)) ||
+        depth >= cfg->maxdepth || !(lo < s && s < hi)) {
         kd_emit_leaf(b, ids, n, depth);
         return;
     }

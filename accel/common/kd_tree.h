@@ -8,7 +8,8 @@
  *                      taken in turn (x, y, z, x, ...; depth mod 3), and a
  *                      primitive goes to every child its SURFACE touches
  *                      (prim_overlaps_box on the child grown by pad). A cell
- *                      becomes a leaf with at most maxprims candidates, at
+ *                      becomes a leaf with at most maxprims candidates
+ *                      (coincident ones counted once: coincident.h), at
  *                      maxdepth, or when the float midpoint no longer lies
  *                      strictly inside it. kd_midpoint.c.
  *   KD_SPLIT_SAH       the surface area heuristic with pbrt-v4's
