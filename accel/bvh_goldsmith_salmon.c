@@ -87,6 +87,7 @@
 #include <string.h>
 #include "accel.h"
 #include "bvh/nary.h"
+#include "common/coincident.h"
 #include "common/memcap.h"
 #include "common/shuffle.h"
 #include "../prims/checked_alloc.h"
@@ -184,12 +185,14 @@ static accel *gs_build(const scene_t *scene, const accel_params *params, char *e
     bytes = memcap_add(bytes, memcap_mul(n, sizeof(uint32_t) + sizeof(sort_key)));
     if (memcap_exceeded(bytes, (uint64_t)memcap, err, errlen, "bvh-gs over %u primitives:", n)) return NULL;
 
+    /* Coincident primitives join their first copy instead of searching (build_gs.c). */
+    prim_classes pc = {NULL, n};
     gs_accel *g = calloc(1, sizeof *g);
     uint32_t *ids = malloc(((size_t)n + 1) * sizeof *ids);
-    if (!g || !ids) goto oom;
+    if (!g || !ids || prim_classes_init(&pc, p)) goto oom;
     g->p = p;
     g->traverse = trav;
-    nary_gs_config cfg = {.max_children = (uint32_t)maxchildren, .ties_first_only = false};
+    nary_gs_config cfg = {.max_children = (uint32_t)maxchildren, .ties_first_only = false, .rep = pc.rep};
     if (order != ORDER_SHUFFLE) {
         for (uint32_t i = 0; i < n; i++) ids[i] = i;
         if (order == ORDER_SORTED && sort_along_line(p, ids)) goto oom;
@@ -214,9 +217,11 @@ static accel *gs_build(const scene_t *scene, const accel_params *params, char *e
         }
     }
     free(ids);
+    prim_classes_free(&pc);
     return &g->base;
 oom:
     free(ids);
+    prim_classes_free(&pc);
     if (g) gs_destroy(&g->base);
     snprintf(err, errlen, "out of memory building bvh-gs over %u primitives", n);
     return NULL;

@@ -45,6 +45,10 @@
  *                    rays), at ~12x the grid's memory;
  *                    grid-raybox keeps Woo's rule, whose implementation it
  *                    reproduces.
+ *                    n counts coincident primitives once (copies of a
+ *                    triangle: common/coincident.h), so a mesh of repeated
+ *                    faces gets the grid of its distinct ones, each cell
+ *                    listing every copy.
  *                    Every mode is then capped so that no cell is narrower
  *                    than float_res_min_cell() (common/float_res.h: 4 pads,
  *                    at least 64 float steps of the box's coordinates): far
@@ -186,6 +190,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "accel.h"
+#include "common/coincident.h"
 #include "common/mailbox.h"
 #include "common/float_res.h"
 #include "common/memcap.h"
@@ -229,6 +234,7 @@ typedef struct {
     uint32_t ncells;
     size_t nrefs;
     uint32_t nonempty; /* cells with at least one candidate */
+    uint32_t maxlist;  /* the longest cell list (move-to-front's scratch) */
     float *planes[3]; /* [n[a] + 1], one allocation */
     box3 box;         /* planes[a][0] .. planes[a][n[a]] */
     box3 clip;        /* box grown by pad: the ray's clip box */
@@ -248,6 +254,7 @@ typedef struct {
 struct accel_ctx {
     mailbox_t mb;  /* ray-id stamps (mailbox or rayid on; else mb.stamp is NULL) */
     uint32_t *ids; /* per-thread list copy (grid with mtf), or NULL */
+    uint32_t *moved; /* mtf: 2 maxlist, the positions moved in a voxel and the list being rearranged */
 };
 
 /* fminf/fmaxf are libm calls without -ffast-math; these are inline and,
@@ -387,18 +394,24 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
         return NULL;
 
     const prims_t *p = &scene->prims;
+    /* Coincident copies (common/coincident.h) count once in the resolution's
+     * n: copies of one triangle share every cell it touches, so cells made
+     * for them would only multiply their lists. */
+    prim_classes pc;
+    if (prim_classes_init(&pc, p)) pc.classes = p->count;
+    prim_classes_free(&pc);
     int res[3];
     const char *rs = params_get(params, "res");
     double cubic_d;
     char tail;
     if (strcmp(rs, "auto") == 0) {
-        grid_auto_resolution(p->count ? p->box : box_empty(), p->count, density, res);
+        grid_auto_resolution(p->count ? p->box : box_empty(), pc.classes, density, res);
     } else if (strncmp(rs, "cubic:", 6) == 0) {
         if (sscanf(rs + 6, "%lf%c", &cubic_d, &tail) != 1 || !(cubic_d > 0 && cubic_d <= 1e4)) {
             snprintf(err, errlen, "res=%s: cubic:D needs D, the cells per primitive, in (0, 10000]", rs);
             return NULL;
         }
-        grid_cubic_resolution(p->count ? p->box : box_empty(), p->count, cubic_d, res);
+        grid_cubic_resolution(p->count ? p->box : box_empty(), pc.classes, cubic_d, res);
     } else {
         char extra;
         if (sscanf(rs, "%dx%dx%d%c", &res[0], &res[1], &res[2], &extra) != 3 || res[0] < 1 || res[1] < 1 ||
@@ -505,6 +518,8 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     insert_pass(g, g->ids);
     for (uint64_t c = ncells; c > 0; c--) g->start[c] = g->start[c - 1];
     g->start[0] = 0;
+    for (uint64_t c = 0; c < ncells; c++)
+        if (g->start[c + 1] - g->start[c] > g->maxlist) g->maxlist = g->start[c + 1] - g->start[c];
 
     if (voxbox) {
         for (int k = 0; k < res[2]; k++)
@@ -561,6 +576,8 @@ static accel_ctx *grid_context_new(accel *a)
         ctx->ids = checked_calloc(g->nrefs ? g->nrefs : 1, sizeof *ctx->ids, "a grid thread's move-to-front lists");
         memcpy(ctx->ids, g->ids, g->nrefs * sizeof *ctx->ids);
     }
+    if (g->mtf != MTF_OFF)
+        ctx->moved = checked_calloc(2 * (size_t)g->maxlist + 1, sizeof *ctx->moved, "a grid thread's move-to-front scratch");
     return ctx;
 }
 
@@ -569,6 +586,7 @@ static void grid_context_free(accel_ctx *ctx)
     if (!ctx) return;
     mailbox_free(&ctx->mb);
     free(ctx->ids);
+    free(ctx->moved);
     free(ctx);
 }
 
@@ -617,6 +635,32 @@ static inline void move_front(uint32_t *ids, uint32_t b, uint32_t k)
     ids[b] = id;
 }
 
+/* Move-to-front of position k, deferred when there is scratch: moved[]
+ * collects the positions (ascending, as the walk meets them) and
+ * apply_moves rearranges the list once at the end of the voxel. The walk
+ * reads only positions after the last move, which a move does not shift,
+ * so deferring changes nothing it sees, and the list ends exactly as the
+ * moves one by one leave it; one by one, though, n copies of a triangle
+ * that all "almost hit" shift the list n times, O(n^2) a ray. */
+static inline void mtf_move(uint32_t *ids, uint32_t b, uint32_t k, uint32_t *moved, uint32_t *nmoved)
+{
+    if (moved) moved[(*nmoved)++] = k;
+    else move_front(ids, b, k);
+}
+
+/* The list [b, e) after moving to the front, in turn, the entries at the
+ * positions moved[0..n): the last moved first, then the others in order. */
+static void apply_moves(uint32_t *ids, uint32_t b, uint32_t e, const uint32_t *moved, uint32_t n, uint32_t *tmp)
+{
+    uint32_t j = 0, m = 0;
+    for (uint32_t i = n; i > 0; i--) tmp[j++] = ids[moved[i - 1]];
+    for (uint32_t k = b; k < e; k++) {
+        if (m < n && moved[m] == k) m++;
+        else tmp[j++] = ids[k];
+    }
+    memcpy(&ids[b], tmp, (size_t)(e - b) * sizeof *ids);
+}
+
 
 /* The walk, ONE source for all four methods: shadow (any hit) and counting
  * are compile-time constants at the call sites, so the counting-free
@@ -661,6 +705,9 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
         mb = &mbox;
     }
     uint32_t *ids = ctx && ctx->ids ? ctx->ids : g->ids;
+    /* Deferred move-to-front (one pass only: rayid's second pass reads the
+     * list as the first pass's moves left it). */
+    uint32_t *moved = !shadow && g->mtf != MTF_OFF && !g->rayid && ctx ? ctx->moved : NULL, nmoved = 0;
 
     /* Entry voxel and the next plane per axis. */
     int idx[3], step[3];
@@ -742,16 +789,20 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
                         vh = minf(v2, hit->t);
                         if (vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
                     }
-                    if (g->mtf != MTF_OFF) move_front(ids, b, k);
+                    if (g->mtf != MTF_OFF) mtf_move(ids, b, k, moved, &nmoved);
                 } else if (g->mtf == MTF_ALMOST) {
                     bool almost = g->woo90;
                     if (!almost) {
                         nbox++;
                         almost = seg_in_bounds(&r, p->bounds[id], v1, segf);
                     }
-                    if (almost) move_front(ids, b, k);
+                    if (almost) mtf_move(ids, b, k, moved, &nmoved);
                 }
             }
+        if (nmoved) {
+            apply_moves(ids, b, e, moved, nmoved, moved + g->maxlist);
+            nmoved = 0;
+        }
     next:
         if (!shadow && hit->t <= tout) break;
         if (tn[ax] >= t1) break;

@@ -78,7 +78,8 @@
  *                 seen: the primitives' centres binned on a coarse cube
  *                 with N / 4 cells in all, O of them occupied, give
  *                 res = G sqrt(N / (4 O)) (G the coarse side), the largest
- *                 over the lights, within 8..512. A rule of thumb, not the
+ *                 over the lights, within 8..512 (N and O count
+ *                 coincident primitives once: common/coincident.h). A rule of thumb, not the
  *                 paper's (which gives none): from far lights a scene is a
  *                 few cells wide at res 32, each holding a large part of
  *                 it, and every lit point behind tests them all (spd:tree,
@@ -201,6 +202,7 @@
 #include "accel.h"
 #include "lightbuf_haines_greenberg.h"
 #include "bvh/bvh.h"
+#include "common/coincident.h"
 #include "common/dircube.h"
 #include "common/memcap.h"
 #include "common/prim_test.h"
@@ -1342,15 +1344,23 @@ static int on_off(const accel_params *params, const char *key, bool *out, char *
 static long auto_res(const scene_t *scene)
 {
     const prims_t *p = &scene->prims;
-    double n = p->count;
+    /* Coincident primitives count once (common/coincident.h): copies share
+     * every cell, so finer cells would only repeat them. */
+    prim_classes pc;
+    if (prim_classes_init(&pc, p)) return 0;
+    double n = pc.classes;
     uint32_t g = (uint32_t)fmax(1.0, fmin(256.0, ceil(sqrt(n / (6.0 * LB_AUTO_PER_CELL)))));
     uint8_t *seen = malloc(6 * (size_t)g * g);
-    if (!seen) return 0;
+    if (!seen) {
+        prim_classes_free(&pc);
+        return 0;
+    }
     double best = 8;
     for (uint32_t l = 0; l < scene->nlights; l++) {
         memset(seen, 0, 6 * (size_t)g * g);
         double occupied = 0;
         for (uint32_t id = 0; id < p->count; id++) {
+            if (pc.rep && pc.rep[id] != id) continue;
             vec3 w = v3_sub(box_center(prim_bounds(p, id)), scene->lights[l]);
             int f = dircube_face(w);
             float u, v;
@@ -1364,6 +1374,7 @@ static long auto_res(const scene_t *scene)
         best = fmax(best, g * sqrt(n / (LB_AUTO_PER_CELL * occupied)));
     }
     free(seen);
+    prim_classes_free(&pc);
     return (long)fmin(ceil(best), LB_AUTO_MAX);
 }
 

@@ -114,7 +114,10 @@
  * that touch the voxel's box grown by pad, so a primitive within pad of a
  * face is a candidate on both sides; a primitive lying in a voxel plane
  * is in both voxels. Subdivision stops at maxdepth, at <= maxprims
- * candidates, on the cost rule (term=cost), and where a child's shortest
+ * candidates (coincident ones counted once, common/coincident.h: copies of
+ * a triangle are in every voxel it touches, however small, so a voxel of
+ * copies is a leaf instead of a reason to subdivide to maxdepth), on the
+ * cost rule (term=cost), and where a child's shortest
  * edge would be below 2^-20 of the root box's largest coordinate magnitude
  * (then minlen/2 is still at least 4 float steps of every coordinate in
  * the box, so a moved point always leaves its voxel). Each candidate is
@@ -179,6 +182,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "accel.h"
+#include "common/coincident.h"
 #include "common/hash.h"
 #include "common/mailbox.h"
 #include "common/memcap.h"
@@ -276,6 +280,7 @@ typedef struct {
     uint64_t scratch;   /* bytes of live child candidate lists */
     uint64_t memcap;    /* MiB */
     uint32_t nprims;
+    prim_classes classes; /* coincident primitives, counted once against maxprims */
     char *err;
     size_t errlen;
     bool failed;
@@ -381,7 +386,8 @@ static void build_node(builder *B, oct_name name, int depth, box3 box, const uin
 {
     octree_t *o = B->o;
     if (B->failed) return;
-    bool split = depth < o->maxdepth && n > (uint32_t)B->maxprims && 0.5f * min_edge(box) >= B->floor_edge;
+    bool split = depth < o->maxdepth && !prim_classes_at_most(&B->classes, cand, n, (uint64_t)B->maxprims) &&
+                 0.5f * min_edge(box) >= B->floor_edge;
     if (split) {
         /* The eight candidate lists, one buffer. */
         size_t cap = (size_t)n + n / 2 + 8, used = 0;
@@ -554,6 +560,12 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
     builder B = {.o = o, .maxprims = (int)maxprims, .term = term, .glassner = ins == 1, .ci = ci, .ct = ct,
                  .memcap = (uint64_t)memcap, .nprims = p->count, .err = err, .errlen = errlen};
     B.floor_edge = OCT_EDGE_FLOOR * fmaxf(maxabs3(o->root.lo), maxabs3(o->root.hi));
+    if (over_cap(&B, prim_classes_scratch_bytes(p->count))) goto fail;
+    if (prim_classes_init(&B.classes, p)) {
+        fail_oom(&B, "coincident primitives");
+        goto fail;
+    }
+    B.scratch += (uint64_t)p->count * sizeof(uint32_t) * (B.classes.rep != NULL);
 
     /* The root's candidates: every primitive touching the root box (all of
      * them but those whose bounds are empty). */
@@ -582,6 +594,7 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
     }
     free(B.entries);
     B.entries = NULL;
+    prim_classes_free(&B.classes);
     o->root_home = hash_mod_home(&o->table, 1, 0);
     if (!isfinite(o->minlen)) o->minlen = min_edge(o->root);
     o->half = 0.5f * o->minlen;
@@ -591,6 +604,7 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
 
 fail:
     free(B.entries);
+    prim_classes_free(&B.classes);
     octree_destroy(&o->base);
     return NULL;
 }

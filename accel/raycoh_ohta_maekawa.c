@@ -26,7 +26,9 @@
  * clusters of at most `objsize` (default 64) by the kit's median BVH
  * (accel/bvh/, leaves of objsize/2 .. objsize primitives: the median
  * builder splits every node over objsize at its centroid median, so leaves
- * are even and spatially compact). Each cluster gets a bounding sphere
+ * are even and spatially compact; built over the distinct primitives, each
+ * cluster then taking every copy of its members: common/coincident.h, so
+ * copies make one cluster instead of many that all see each other). Each cluster gets a bounding sphere
  * (centre: its box's centre; radius: the farthest corner of any member's
  * box). Every cluster is both an entity (rays originate on it) and an
  * object (rays hit it). Lights are entities with lights=on: the coherence
@@ -124,6 +126,7 @@
 
 #include "accel.h"
 #include "bvh/bvh.h"
+#include "common/coincident.h"
 #include "common/dircube.h"
 #include "common/memcap.h"
 #include "common/prim_test.h"
@@ -294,27 +297,57 @@ static void cluster_sphere(const prims_t *p, const uint32_t *ids, rc_obj *o)
     o->r = nextafterf((float)((sqrt(r2) + moved) * (1.0 + 1e-7)), INFINITY);
 }
 
+/* The clusters are made over the distinct primitives (common/coincident.h):
+ * every copy of one goes into its cluster, which may so hold more than
+ * objsize. Clusters of copies would all lie at one place, each seeing all
+ * the others in every direction: lists quadratic in the copies. */
 static int make_clusters(rc_t *t)
 {
     const prims_t *p = t->p;
     uint32_t n = p->count;
-    box3 *boxes = malloc((size_t)n * sizeof *boxes + 1);
-    if (!boxes) return -1;
-    for (uint32_t i = 0; i < n; i++) boxes[i] = prim_bounds(p, i);
+    prim_classes pc;
+    if (prim_classes_init(&pc, p)) return -1;
+    uint32_t m = pc.classes;
+    /* Class j's members are members[mstart[j] .. mstart[j + 1]); cls[id] = j. */
+    box3 *boxes = malloc((size_t)m * sizeof *boxes + 1);
+    uint32_t *cls = malloc((size_t)n * sizeof *cls + 1), *mstart = calloc((size_t)m + 2, sizeof *mstart);
+    uint32_t *members = malloc((size_t)n * sizeof *members + 1);
+    if (!boxes || !cls || !mstart || !members) {
+        free(boxes), free(cls), free(mstart), free(members);
+        prim_classes_free(&pc);
+        return -1;
+    }
+    for (uint32_t i = 0, j = 0; i < n; i++) {
+        if (pc.rep && pc.rep[i] != i) {
+            cls[i] = cls[pc.rep[i]]; /* the representative is the smallest id: already numbered */
+        } else {
+            boxes[j] = prim_bounds(p, i);
+            cls[i] = j++;
+        }
+        mstart[cls[i] + 2]++;
+    }
+    prim_classes_free(&pc);
+    for (uint32_t j = 0; j < m; j++) mstart[j + 2] += mstart[j + 1];
+    for (uint32_t i = 0; i < n; i++) members[mstart[cls[i] + 1]++] = i;
+    free(cls);
     bvh_config cfg;
     bvh_config_defaults(&cfg);
     cfg.max_leaf = t->objsize;
     bvh_t b;
     memset(&b, 0, sizeof b);
-    int rc = bvh_build_median(&b, boxes, NULL, n, &cfg);
+    int rc = bvh_build_median(&b, boxes, NULL, m, &cfg);
     free(boxes);
-    if (rc != 0) return -1;
+    if (rc != 0) {
+        free(mstart), free(members);
+        return -1;
+    }
     t->nobj = b.nleaves;
     t->objs = malloc((size_t)t->nobj * sizeof *t->objs + 1);
     t->ids = malloc((size_t)n * sizeof *t->ids + 1);
     t->prim_obj = malloc((size_t)n * sizeof *t->prim_obj + 1);
     if (!t->objs || !t->ids || !t->prim_obj) {
         bvh_free(&b);
+        free(mstart), free(members);
         return -1;
     }
     uint32_t k = 0, first = 0;
@@ -322,15 +355,19 @@ static int make_clusters(rc_t *t)
         const bvh_node *nd = &b.nodes[i];
         if (!nd->count) continue;
         rc_obj *o = &t->objs[k];
-        o->first = first, o->count = nd->count;
+        o->first = first, o->count = 0;
         for (uint32_t j = 0; j < nd->count; j++) {
-            t->ids[first + j] = b.refs[nd->index + j];
-            t->prim_obj[b.refs[nd->index + j]] = k;
+            uint32_t c = b.refs[nd->index + j];
+            for (uint32_t q = mstart[c]; q < mstart[c + 1]; q++) {
+                t->ids[first + o->count++] = members[q];
+                t->prim_obj[members[q]] = k;
+            }
         }
         cluster_sphere(p, &t->ids[first], o);
-        first += nd->count, k++;
+        first += o->count, k++;
     }
     bvh_free(&b);
+    free(mstart), free(members);
     return 0;
 }
 

@@ -90,6 +90,7 @@
 #include "accel.h"
 #include "slabs_kay_kajiya.h"
 #include "bvh/walk.h"
+#include "common/coincident.h"
 #include "common/memcap.h"
 #include "common/planeset.h"
 #include "../prims/checked_alloc.h"
@@ -284,9 +285,14 @@ static accel *kk_build(const scene_t *scene, const accel_params *params, char *e
     bvh_config cfg;
     bvh_config_defaults(&cfg);
     cfg.max_leaf = (uint32_t)maxleaf;
+    /* tree=gs: copies of a primitive go next to it (accel/bvh/build_insert.c, common/coincident.h). */
+    prim_classes pc = {NULL, n};
+    if (tree == TREE_GS && prim_classes_init(&pc, p)) goto oom;
+    cfg.insert_rep = pc.rep;
     int rc = tree == TREE_MEDIAN ? bvh_build_median(&t->topo, boxes, NULL, n, &cfg)
              : tree == TREE_GS   ? bvh_build_insert(&t->topo, boxes, NULL, n, &cfg)
                                  : bvh_build_sah(&t->topo, boxes, NULL, n, &cfg);
+    prim_classes_free(&pc);
     if (rc || (t->topo.nnodes && convert(t, ext))) goto oom;
     free(t->topo.nodes);
     t->topo.nodes = NULL;

@@ -35,6 +35,7 @@ void bvh_config_defaults(bvh_config *cfg)
     cfg->threads = 0;
     cfg->insert_seed = 0;
     cfg->parallel_from = 0;
+    cfg->insert_rep = NULL;
 }
 
 bvh_config bvh_config_or_defaults(const bvh_config *cfg)

@@ -54,7 +54,14 @@
  *
  * Costs: an insertion looks at the children of every node on its path(s):
  * O(depth x width) without ties; a tie over children that all contain the
- * box sends it down each, which is what s4.3 asks for. */
+ * box sends it down each, which is what s4.3 asks for.
+ *
+ * Coincident primitives (cfg->rep, accel/common/coincident.h): the copy of
+ * a primitive already in the tree does not search, since every node holds
+ * its box and the ties above would visit the whole tree (quadratic on a
+ * mesh of repeated faces); it joins the first one's leaf under a new parent,
+ * and later copies are that parent's children (a new parent over it when
+ * max_children is reached). Without copies the build is unchanged. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -216,13 +223,10 @@ static int search(gs_builder *b, box3 bb, placement *best)
     return 0;
 }
 
-int gs_insert(gs_builder *b, uint32_t prim, double *increase)
+/* Put prim where best says. 0, or -1 out of memory (the tree unchanged). */
+static int place(gs_builder *b, uint32_t prim, placement best)
 {
     box3 bb = b->boxes[prim];
-    *increase = 0.0;
-    if (b->root == GS_NONE) return gs_add_leaf(b, GS_NONE, prim) == GS_NONE ? -1 : 0;
-    placement best;
-    if (search(b, bb, &best)) return -1;
     /* Either placement makes at most two nodes: room first, so a failure
      * leaves the tree as it was. */
     if (reserve(b, 2)) return -1;
@@ -255,7 +259,30 @@ int gs_insert(gs_builder *b, uint32_t prim, double *increase)
         append_child(b, p, v);
         append_child(b, p, leaf);
     }
+    return 0;
+}
+
+int gs_insert(gs_builder *b, uint32_t prim, double *increase)
+{
+    *increase = 0.0;
+    if (b->root == GS_NONE) return gs_add_leaf(b, GS_NONE, prim) == GS_NONE ? -1 : 0;
+    placement best;
+    if (search(b, b->boxes[prim], &best) || place(b, prim, best)) return -1;
     *increase = best.cost;
+    return 0;
+}
+
+/* A copy of a primitive already in the tree, whose node is *at: the leaf of
+ * the first one (the copy and it get a new parent, which *at becomes) or
+ * that parent (one more child of it; a new parent over it when it is
+ * full). The search would find every node containing the copy's box and
+ * tie on all of them; here a copy costs O(1). */
+static int place_copy(gs_builder *b, uint32_t prim, uint32_t *at)
+{
+    const gs_node *g = &b->nodes[*at];
+    bool sibling = g->prim == GS_NONE && (!b->cfg.max_children || g->nchildren < b->cfg.max_children);
+    if (place(b, prim, (placement){0.0, *at, sibling})) return -1;
+    if (!sibling) *at = b->nnodes - 2; /* the new parent (place made it just before the leaf) */
     return 0;
 }
 
@@ -309,13 +336,25 @@ int nary_build_gs(nary_t *t, const box3 *boxes, const uint32_t *order, uint32_t 
     memset(t, 0, sizeof *t);
     gs_builder b;
     if (gs_builder_init(&b, boxes, n, cfg)) return -1;
+    /* With coincident classes: the node holding each class in the tree. */
+    uint32_t *at = cfg && cfg->rep ? malloc(((size_t)n + 1) * sizeof *at) : NULL;
+    if (cfg && cfg->rep && !at) {
+        gs_builder_free(&b);
+        return -1;
+    }
+    for (uint32_t i = 0; at && i < n; i++) at[i] = GS_NONE;
     for (uint32_t i = 0; i < n; i++) {
         double increase;
-        if (gs_insert(&b, order ? order[i] : i, &increase)) {
+        uint32_t prim = order ? order[i] : i, r = at ? cfg->rep[prim] : 0;
+        int rc = at && at[r] != GS_NONE ? place_copy(&b, prim, &at[r]) : gs_insert(&b, prim, &increase);
+        if (rc) {
+            free(at);
             gs_builder_free(&b);
             return -1;
         }
+        if (at && at[r] == GS_NONE) at[r] = b.nnodes - 1; /* the leaf gs_insert made last */
     }
+    free(at);
     int rc = gs_finish(&b, t);
     gs_builder_free(&b);
     return rc;

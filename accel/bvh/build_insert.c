@@ -27,7 +27,13 @@
  *
  * The tree depends on the insertion order (the paper studies the effect
  * of the order): id order by default, or a shuffle by cfg->insert_seed. Each insertion costs the
- * depth of the path, O(n log n) for reasonable orders, O(n^2) at worst. */
+ * depth of the path, O(n log n) for reasonable orders, O(n^2) at worst.
+ *
+ * Coincident boxes (cfg->insert_rep, accel/common/coincident.h): a copy of
+ * a primitive already in the tree goes under a new parent next to the
+ * class's latest leaf, in O(1); descending for it would walk the chain its
+ * earlier copies made (each one's "here" ties with going below), which is
+ * quadratic on a mesh of repeated faces. */
 #include <stdlib.h>
 #include "../common/shuffle.h"
 #include "build.h"
@@ -66,9 +72,25 @@ int bvh_build_insert(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_
     b->nrefs = n;
     b->nodes[0] = (bvh_node){boxes[b->refs[0]], 0, 1};
     b->nnodes = 1;
+    /* With coincident classes: the leaf of each class's latest member. */
+    const uint32_t *rep = c.insert_rep;
+    uint32_t *at = rep ? malloc((size_t)n * sizeof *at) : NULL;
+    if (rep && !at) return -1;
+    for (uint32_t i = 0; at && i < n; i++) at[i] = UINT32_MAX;
+    if (at) at[rep[b->refs[0]]] = 0;
     for (uint32_t r = 1; r < n; r++) {
         box3 bb = boxes[b->refs[r]];
         uint32_t x = 0;
+        if (at) {
+            /* A copy goes next to the class's leaf, still a leaf of that class
+             * (another insertion may have put a parent in its slot). */
+            uint32_t k = rep[b->refs[r]], l = at[k];
+            at[k] = b->nnodes + 1; /* the leaf insert_at makes */
+            if (l != UINT32_MAX && b->nodes[l].count && rep[b->refs[b->nodes[l].index]] == k) {
+                insert_at(b, l, r, bb);
+                continue;
+            }
+        }
         double inherited = 0.0;
         for (;;) {
             bvh_node *node = &b->nodes[x];
@@ -85,5 +107,6 @@ int bvh_build_insert(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_
         }
         insert_at(b, x, r, bb);
     }
+    free(at);
     return bvh_finish(b);
 }

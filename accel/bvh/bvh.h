@@ -102,6 +102,9 @@ typedef struct {
                              * threads >= 1, a node of more than this many primitives bins them in fixed chunks
                              * on the threads (the top of a threaded build, above its parallel subtrees); the
                              * bins, and so the tree, are the same for every thread count */
+    const uint32_t *insert_rep; /* incremental: rep[i], the coincident class of box i (accel/common/coincident.h),
+                                 * or NULL (default): a box of a class already in the tree goes next to it
+                                 * (build_insert.c) */
 } bvh_config;
 
 #define BVH_MAX_THREADS 64 /* threads a top-down build uses at most */

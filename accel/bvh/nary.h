@@ -155,6 +155,11 @@ bool nary_occluded_nearest_fast(const nary_t *t, const prims_t *p, nary_scratch 
 typedef struct {
     uint32_t max_children;
     bool ties_first_only; /* ablation and tests: on a tie, descend the first minimal child only */
+    /* rep[i]: the coincident class of box i (accel/common/coincident.h), or
+     * NULL. A box of a class already in the tree joins it (build_gs.c)
+     * instead of searching: every node contains a copy's box, so the
+     * search's ties would send it down the whole tree. */
+    const uint32_t *rep;
 } nary_gs_config;
 int nary_build_gs(nary_t *t, const box3 *boxes, const uint32_t *order, uint32_t n, const nary_gs_config *cfg);
 /* Bytes the builder holds at most while building over n boxes, the

@@ -5,6 +5,7 @@
 #ifndef ACCELBENCH_KD_BUILD_H
 #define ACCELBENCH_KD_BUILD_H
 
+#include "coincident.h"
 #include "kd_tree.h"
 
 typedef struct {
@@ -12,6 +13,7 @@ typedef struct {
     const prims_t *p;
     const kd_config *cfg;
     uint64_t scratch; /* bytes of build scratch alive now */
+    prim_classes classes; /* coincident primitives (midpoint: counted once against maxprims) */
     bool failed;      /* err holds the reason; every later call is a no-op */
     char *err;
     size_t errlen;

@@ -12,7 +12,9 @@
  * so one lying in, touching or passing within rounding of the plane is in
  * both children; primitives whose bounds end more than pad below the
  * plane go below without a test (and likewise above). A cell is a leaf when it has at most
- * maxprims candidates, at maxdepth, or when no axis can be halved into
+ * maxprims candidates, coincident ones counted once (coincident.h: copies of
+ * a triangle fall on both sides of every plane through it, so no midpoint
+ * separates them), at maxdepth, or when no axis can be halved into
  * children at least float_res_min_cell() wide (4 pads, 64 float steps of
  * the root's coordinates: float_res.h); an axis too narrow for that is
  * skipped for the next one in turn. Far from the origin the slack would
@@ -38,7 +40,8 @@ static void build(kd_builder *b, box3 cell, uint32_t *ids, uint32_t n, int depth
         s = lo + 0.5f * (hi - lo);
         if (s - lo >= minw && hi - s >= minw) break;
     }
-    if ((int)n <= cfg->maxprims || depth >= cfg->maxdepth || tries == 3) {
+    if (prim_classes_at_most(&b->classes, ids, n, (uint64_t)(cfg->maxprims < 0 ? 0 : cfg->maxprims)) ||
+        depth >= cfg->maxdepth || tries == 3) {
         kd_emit_leaf(b, ids, n, depth);
         return;
     }

@@ -218,10 +218,17 @@ int kd_build(kd_tree *t, const prims_t *p, const kd_config *cfg, char *err, size
     float mag = fmaxf(fmaxf(fabsf(r.lo.x), fmaxf(fabsf(r.lo.y), fabsf(r.lo.z))),
                       fmaxf(fabsf(r.hi.x), fmaxf(fabsf(r.hi.y), fabsf(r.hi.z))));
     t->pad = 2e-6f * mag + 1e-6f * box_diagonal(r);
+    if (!b.failed && cfg->split == KD_SPLIT_MIDPOINT && kd_charge(&b, (int64_t)prim_classes_scratch_bytes(p->count))) {
+        if (prim_classes_init(&b.classes, p)) kd_fail(&b, "out of memory (finding coincident primitives)");
+        kd_charge(&b, -(int64_t)prim_classes_scratch_bytes(p->count));
+        if (b.classes.rep) kd_charge(&b, (int64_t)p->count * (int64_t)sizeof(uint32_t));
+    }
     if (!b.failed) {
         if (cfg->split == KD_SPLIT_SAH) kd_build_sah(&b);
         else kd_build_midpoint(&b);
     }
+    if (b.classes.rep) kd_charge(&b, -(int64_t)p->count * (int64_t)sizeof(uint32_t));
+    prim_classes_free(&b.classes);
     if (!b.failed && t->nnodes == 0) kd_fail(&b, "internal: the builder made no node");
     if (b.failed) {
         kd_free(t);

@@ -8,7 +8,8 @@
  *                      taken in turn (x, y, z, x, ...; depth mod 3), and a
  *                      primitive goes to every child its SURFACE touches
  *                      (prim_overlaps_box on the child grown by pad). A cell
- *                      becomes a leaf with at most maxprims candidates, at
+ *                      becomes a leaf with at most maxprims candidates
+ *                      (coincident ones counted once: coincident.h), at
  *                      maxdepth, or when no axis halves into children
  *                      float coordinates there resolve (float_res.h; an
  *                      axis too narrow passes to the next). kd_midpoint.c.
