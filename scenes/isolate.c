@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -141,6 +142,53 @@ int isolate_run(isolate_fn fn, void *arg, uint64_t max_bytes, char **out, size_t
         snprintf(why, whylen, "could not be read: out of memory");
         return -1;
     }
+    buf[len] = '\0';
+    *out = buf;
+    *out_len = len;
+    return 0;
+}
+
+int isolate_run_in_process(isolate_fn fn, void *arg, uint64_t max_bytes, char **out, size_t *out_len, char *why,
+                           size_t whylen)
+{
+    *out = NULL;
+    *out_len = 0;
+    int fd = memfd_create("accelbench-isolate", MFD_CLOEXEC);
+    if (fd < 0) {
+        snprintf(why, whylen, "could not be started: memfd_create: %s", strerror(errno));
+        return -1;
+    }
+    int rc = fn(fd, arg);
+    off_t end = lseek(fd, 0, SEEK_END);
+    if (rc != 0 || end < 0 || (uint64_t)end > max_bytes) {
+        if (rc != 0)
+            snprintf(why, whylen, "exited with status %d", rc);
+        else if (end < 0)
+            snprintf(why, whylen, "could not be read: %s", strerror(errno));
+        else
+            snprintf(why, whylen, "wrote more than %llu bytes", (unsigned long long)max_bytes);
+        close(fd);
+        return -1;
+    }
+    size_t len = (size_t)end;
+    char *buf = malloc(len + 1);
+    if (!buf) {
+        snprintf(why, whylen, "could not be read: out of memory");
+        close(fd);
+        return -1;
+    }
+    for (size_t got = 0; got < len;) {
+        ssize_t n = pread(fd, buf + got, len - got, (off_t)got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            snprintf(why, whylen, "could not be read: %s", n < 0 ? strerror(errno) : "the memory file was cut");
+            free(buf);
+            close(fd);
+            return -1;
+        }
+        got += (size_t)n;
+    }
+    close(fd);
     buf[len] = '\0';
     *out = buf;
     *out_len = len;

@@ -45,6 +45,15 @@ typedef int (*isolate_fn)(int fd, void *arg);
  * bounds the output kept; a child that writes more is killed. */
 int isolate_run(isolate_fn fn, void *arg, uint64_t max_bytes, char **out, size_t *out_len, char *why, size_t whylen);
 
+/* The same work and contract as isolate_run, in this process: fn writes to
+ * a memory file (memfd) that is read back once it returns, and a status
+ * other than 0 is "exited with status N". Nothing isolates it: a crash or
+ * an abort in fn is the caller's. Only for a caller whose own process is
+ * the isolation (a fuzzer, which runs every input in a process of its own
+ * making and must see a crash, not fork one away). */
+int isolate_run_in_process(isolate_fn fn, void *arg, uint64_t max_bytes, char **out, size_t *out_len, char *why,
+                           size_t whylen);
+
 /* Write all of len bytes to fd (restarting on EINTR and short writes):
  * 0, or -1 when the pipe is gone (the parent stopped reading). */
 int isolate_write(int fd, const void *data, size_t len);

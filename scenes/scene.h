@@ -270,6 +270,12 @@ scene_t *scene_load_mesh(const char *name, const char *path, char *err, size_t e
  * for beside. For the fuzzers (fuzz/), and any caller with the bytes. */
 scene_t *scene_mesh_from_memory(const char *name, const char *path, const char *file_name, const char *data,
                                 size_t size, char *err, size_t errlen);
+/* The same with assimp in this process, not in a child (isolate.h):
+ * the same checks, scene and messages, but a file that crashes assimp
+ * crashes the caller. For the fuzzers only, whose process is the
+ * isolation (and where a fork per input costs most of the time). */
+scene_t *scene_mesh_from_memory_in_process(const char *name, const char *path, const char *file_name,
+                                           const char *data, size_t size, char *err, size_t errlen);
 /* SPD balls (sphereflake), size 1..7; tess_res 0 for true spheres, else
  * 1..64 for cube-sphere triangles (12*tess_res^2 per sphere). */
 scene_t *scene_spd_balls(const char *name, int size, int tess_res, char *err, size_t errlen);

@@ -2,7 +2,10 @@
  * loader's shield against assimp: a child that crashes, aborts, exits with
  * an error, writes past the bound or allocates past the memory cap is
  * reported, never fatal; what a child writes arrives whole; and the mesh
- * loader gives the same scene through the child as the file says. */
+ * loader gives the same scene through the child as the file says. The
+ * in-process form the fuzzers use (isolate_run_in_process,
+ * scene_mesh_from_memory_in_process) gives the same output, statuses,
+ * scenes and messages. */
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -119,6 +122,45 @@ int main(void)
     s = scene_mesh_from_memory("bad", "bad.ply", "bad.ply", ply, sizeof ply - 1, err, sizeof err);
     CHECK_MSG(s == NULL && strstr(err, "bad.ply") != NULL, "err '%s'", err);
     printf("bad.ply: %s\n", err);
+    scene_free(s);
+
+    /* In process: the same output, whole, and the same failures (but a crash would be ours). */
+    rc = isolate_run_in_process(child_writes, &n, 64u << 20, &out, &len, why, sizeof why);
+    CHECK_MSG(rc == 0 && len == n, "in process: rc %d, %zu of %zu bytes: %s", rc, len, n, rc ? why : "");
+    if (rc == 0) {
+        size_t bad = 0;
+        for (size_t i = 0; i < len; i++) bad += out[i] != (char)(i * 7);
+        CHECK_MSG(bad == 0 && out[len] == '\0', "in process: %zu bytes differ", bad);
+        free(out);
+    }
+    out = (char *)1;
+    rc = isolate_run_in_process(child_status, &three, 1 << 20, &out, &len, why, sizeof why);
+    CHECK_MSG(rc == -1 && out == NULL && strstr(why, "exited with status 3"), "in process: rc %d, why '%s'", rc, why);
+    rc = isolate_run_in_process(child_writes, &big, 1 << 20, &out, &len, why, sizeof why);
+    CHECK_MSG(rc == -1 && out == NULL && strstr(why, "wrote more than 1048576 bytes"), "in process: rc %d, why '%s'",
+              rc, why);
+    rc = isolate_run_in_process(child_status, &zero, 1 << 20, &out, &len, why, sizeof why);
+    CHECK(rc == 0 && len == 0 && out && out[0] == '\0');
+    free(out);
+
+    s = scene_mesh_from_memory_in_process("quad", "quad.obj", "quad.obj", obj, sizeof obj - 1, err, sizeof err);
+    scene_t *c = scene_mesh_from_memory("quad", "quad.obj", "quad.obj", obj, sizeof obj - 1, err, sizeof err);
+    CHECK_MSG(s != NULL && c != NULL, "in process: %s", err);
+    if (s && c) {
+        CHECK_MSG(s->prims.ntris == 2 && s->prims.nverts == c->prims.nverts &&
+                      !memcmp(s->prims.verts, c->prims.verts, c->prims.nverts * sizeof *c->prims.verts) &&
+                      !memcmp(s->prims.tris, c->prims.tris, 2 * sizeof *c->prims.tris),
+                  "in process: %u triangles, %u vertices, not the child's", s->prims.ntris, s->prims.nverts);
+        CHECK_MSG(strcmp(s->source, c->source) == 0, "in process: source '%s'", s->source);
+    }
+    scene_free(s);
+    scene_free(c);
+    char err_child[512];
+    snprintf(err_child, sizeof err_child, "%s", err);
+    s = scene_mesh_from_memory("bad", "bad.ply", "bad.ply", ply, sizeof ply - 1, err_child, sizeof err_child);
+    scene_free(s);
+    s = scene_mesh_from_memory_in_process("bad", "bad.ply", "bad.ply", ply, sizeof ply - 1, err, sizeof err);
+    CHECK_MSG(s == NULL && strcmp(err, err_child) == 0, "in process: err '%s', through the child '%s'", err, err_child);
     scene_free(s);
     return check_report();
 }
