@@ -400,14 +400,16 @@ static void test_store(void)
     CHECK(t && len == strlen(h) + 1 && strncmp(t, h, strlen(h)) == 0);
     free(t);
 
-    /* A full device: the header's write fails, status 1, the reason named. */
+    /* A device (a symlink to /dev/full): refused, status 2, the reason named, the device left alone. */
     char full[300];
     snprintf(full, sizeof full, "%s/full.csv", dir);
     if (symlink("/dev/full", full) == 0) {
         s = results_open(dir, full, &fd, err, sizeof err, &status);
-        CHECK_MSG(!s && status == 1 && strstr(err, "full.csv: write failed: No space left on device"), "%s", err);
-        CHECK(write_file_checked(full, "a", "run info\n", err, sizeof err) == -1);
-        CHECK_MSG(strstr(err, "full.csv: write failed: No space left on device") != NULL, "%s", err);
+        CHECK_MSG(!s && status == 2 && strstr(err, "full.csv: is a character device, not a regular file"), "%s", err);
+        CHECK(write_file_checked(full, "a", "run info\n", err, sizeof err) == -2);
+        CHECK_MSG(strstr(err, "full.csv: is a character device, not a regular file") != NULL, "%s", err);
+        struct stat st;
+        CHECK(lstat(full, &st) == 0 && S_ISLNK(st.st_mode));
         unlink(full);
     } else {
         CHECK(!"cannot make a symlink to /dev/full");
