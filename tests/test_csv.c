@@ -168,6 +168,18 @@ static void test_rows(void)
     CHECK_MSG(strcmp(f, r.scene) == 0, "%s", f);
     row_field(text, len, "cell_key", f, sizeof f);
     CHECK(strcmp(f, r.cell_key) == 0);
+    /* Names a spreadsheet would run (and one beginning with the guard itself) are written after a ' and read back. */
+    const char *formula[] = {"=cmd", "+1", "-x", "@at", "'q", "=a,\"b\""};
+    for (int i = 0; i < 6; i++) {
+        csv_row g = sample_row(formula[i], "primary", "scene=x accel=grid params=");
+        char *gt;
+        size_t gl;
+        CHECK(csv_format_row(&g, &gt, &gl) == 0);
+        CHECK_MSG(gt && (gt[0] == '\'' || (gt[0] == '"' && gt[1] == '\'')), "%s", gt);
+        row_field(gt, gl, "scene", f, sizeof f);
+        CHECK_MSG(strcmp(f, formula[i]) == 0, "%s", f);
+        free(gt);
+    }
     row_field(text, len, "run_id", f, sizeof f);
     CHECK(strcmp(f, run_id_current()) == 0);
     row_field(text, len, "cpu", f, sizeof f);
