@@ -75,15 +75,27 @@ int csv_column_index(const char *name)
     return -1;
 }
 
-/* RFC 4180: quote a field holding a comma, quote or newline. */
+/* A text field a spreadsheet would take for a formula (=, +, -, @, or a
+ * tab or carriage return before one) is written after a ', which csv_field
+ * and the scripts' readers drop again; so is one that begins with ' itself,
+ * so every value reads back as it was. */
+static bool needs_guard(const char *s)
+{
+    return s[0] && strchr("=+-@\t\r'", s[0]);
+}
+
+/* RFC 4180: quote a field holding a comma, quote or newline (the guard
+ * inside the quotes). */
 static void put_text(FILE *f, const char *s)
 {
     if (!s) s = "";
-    if (!strpbrk(s, ",\"\n\r")) {
+    bool quote = strpbrk(s, ",\"\n\r") != NULL;
+    if (quote) fputc('"', f);
+    if (needs_guard(s)) fputc('\'', f);
+    if (!quote) {
         fputs(s, f);
         return;
     }
-    fputc('"', f);
     for (; *s; s++) {
         if (*s == '"') fputc('"', f);
         fputc(*s, f);
@@ -246,6 +258,7 @@ void csv_field(const char *text, csv_span span, char *buf, size_t len)
         i++;
         if (end > i && text[end - 1] == '"') end--;
     }
+    if (i < end && text[i] == '\'') i++; /* put_text's guard */
     for (; i < end && k + 1 < len; i++) {
         if (span.quoted && text[i] == '"' && i + 1 < end && text[i + 1] == '"') i++;
         buf[k++] = text[i];

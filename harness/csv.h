@@ -83,7 +83,10 @@ typedef struct {
  * ran out first, a torn record). The first maxfields fields' spans go to
  * spans (may be NULL). */
 size_t csv_split_record(const char *text, size_t n, int *nfields, bool *complete, csv_span *spans, int maxfields);
-/* A field's value, unquoted, into buf (cut to len - 1 bytes, NUL-terminated). */
+/* A field's value, unquoted and without the ' that guards a text field
+ * beginning with =, +, -, @, tab, carriage return or ' (a spreadsheet
+ * would run the others as a formula), into buf (cut to len - 1 bytes,
+ * NUL-terminated). */
 void csv_field(const char *text, csv_span span, char *buf, size_t len);
 
 #endif

@@ -29,12 +29,11 @@
 
 /* Write a ray set to path through a temporary file beside it, renamed
  * into place, so that a run killed mid-write leaves no torn file under
- * the name (a device or a pipe is written directly: there is nothing to
- * rename onto, and nothing must replace it). */
+ * the name (a path that is not a regular file is refused: nothing may
+ * replace a device or a pipe). */
 static int save_rays_file(const rayset_t *rs, const char *path, char *err, size_t errlen)
 {
-    struct stat st;
-    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) return rayset_save(rs, path, err, errlen);
+    if (output_replaceable(path, err, errlen)) return -1;
     char real[PATH_MAX], tmp[PATH_MAX + 64];
     if (!realpath(path, real)) snprintf(real, sizeof real, "%s", path);
     const char *slash = strrchr(real, '/');
@@ -90,7 +89,11 @@ static int save_rays_check(const options *o, int nsets)
         fprintf(stderr, "accelbench: --save-rays %s: cannot write in the folder: %s\n", o->save_rays, strerror(errno));
         return 2;
     }
-    char dir[PATH_MAX];
+    char dir[PATH_MAX], err[PATH_MAX + 128];
+    if (output_replaceable(o->save_rays, err, sizeof err)) {
+        fprintf(stderr, "accelbench: --save-rays %s\n", err);
+        return 2;
+    }
     snprintf(dir, sizeof dir, "%s", o->save_rays);
     char *slash = strrchr(dir, '/');
     if (!slash) snprintf(dir, sizeof dir, ".");
@@ -162,8 +165,8 @@ static int cell_prepare(const options *o, const scene_t *s, accel *ref, verifier
             return -1;
         }
         if (strcmp(rs->scene, s->name) != 0)
-            fprintf(stderr, "accelbench: warning: %s was made for scene '%s', replaying on '%s'\n", o->rays_file,
-                    rs->scene, s->name);
+            fprintf(stderr, "accelbench: warning: %s was made for scene '%s', replaying on '%s'\n", term_text(o->rays_file),
+                    term_text(rs->scene), term_text(s->name));
     }
     cell_rays_init(in, s, ref, ver, rs, o->threads);
     return 0;
@@ -182,16 +185,16 @@ static scene_t *open_scene(const options *o, int si, accel **ref, verifier_t **v
     double t0 = clock_ms();
     scene_t *s = scene_load(o->scenes[si], err, sizeof err);
     if (!s) {
-        fprintf(stderr, "accelbench: %s\n", err);
+        fprintf(stderr, "accelbench: %s\n", term_text(err));
         return NULL;
     }
     if (!o->quiet)
         fprintf(stderr, "scene %s: %u primitives (%u triangles, %u spheres, %u cones, %u polygons), loaded in %.0f ms\n",
-                s->name, s->prims.count, s->prims.ntris, s->prims.nspheres, s->prims.ncones, s->prims.npolygons,
+                term_text(s->name), s->prims.count, s->prims.ntris, s->prims.nspheres, s->prims.ncones, s->prims.npolygons,
                 clock_ms() - t0);
     *ref = build_reference(s, o->threads, err, sizeof err);
     if (!*ref) {
-        fprintf(stderr, "accelbench: %s: reference build failed: %s\n", s->name, err);
+        fprintf(stderr, "accelbench: %s: reference build failed: %s\n", term_text(s->name), err);
         scene_free(s);
         return NULL;
     }
@@ -213,7 +216,7 @@ static void print_progress(int done, int total, const cell_result *cr, const cha
     const csv_row *r = &cr->row;
     fprintf(stderr, "[%d/%d] %s %s %s: %u rays, build %.1f ms, trace %.2f ms (%.3f Mrays/s, %.2fx embree, pairs "
                     "%.2f-%.2f, %s), agree %llu, real mismatches %llu\n",
-            done, total, r->scene, label, r->workload, r->rays, r->build_ms, r->trace_ms, r->mrays_per_s,
+            done, total, term_text(r->scene), label, r->workload, r->rays, r->build_ms, r->trace_ms, r->mrays_per_s,
             r->ratio_vs_embree, r->ratio_min, r->ratio_max, r->timed_path, (unsigned long long)r->agree,
             (unsigned long long)r->mismatch_real);
     if (r->nstats) {
@@ -226,7 +229,8 @@ static void print_progress(int done, int total, const cell_result *cr, const cha
 /* ------------------------------------------------------------------ run */
 
 /* Append one shell word to buf, single-quoted when the shell would split
- * or expand it (a quote inside becomes '\''). */
+ * or expand it (a quote inside becomes '\''), or as $'...' with \xHH
+ * escapes when it holds a control character. */
 static void shell_word(char *buf, size_t len, const char *word)
 {
     size_t n = strlen(buf);
@@ -236,6 +240,19 @@ static void shell_word(char *buf, size_t len, const char *word)
     if (n && n + 1 < len) buf[n++] = ' ', buf[n] = 0;
     if (plain) {
         snprintf(buf + n, len - n, "%s", word);
+        return;
+    }
+    bool control = false;
+    for (const unsigned char *c = (const unsigned char *)word; *c; c++) control |= *c < 0x20 || *c == 0x7f;
+    if (control) {
+        /* bash's $'...': the terminal sees no control character, and the line still pastes. */
+        if (n + 2 < len) n += (size_t)snprintf(buf + n, len - n, "$'");
+        for (const unsigned char *c = (const unsigned char *)word; *c && n + 6 < len; c++) {
+            if (*c < 0x20 || *c == 0x7f) n += (size_t)snprintf(buf + n, len - n, "\\x%02x", *c);
+            else if (*c == '\'' || *c == '\\') n += (size_t)snprintf(buf + n, len - n, "\\%c", *c);
+            else buf[n++] = (char)*c, buf[n] = 0;
+        }
+        if (n + 1 < len) buf[n++] = '\'', buf[n] = 0;
         return;
     }
     if (n + 1 < len) buf[n++] = '\'', buf[n] = 0;
@@ -269,7 +286,7 @@ static int run_cell_key(const options *o, int si, int wi, const accel_config *ac
                         .rays_hash = replay ? replay->hash : 0, .threads = o->threads, .repeat = o->repeat,
                         .warm = o->warm_passes};
     if (cell_key_format(&k, buf, len) == 0) return 0;
-    fprintf(stderr, "accelbench: %s %s %s: the cell key is longer than %d bytes\n", o->scenes[si], ac->ops->name,
+    fprintf(stderr, "accelbench: %s %s %s: the cell key is longer than %d bytes\n", term_text(o->scenes[si]), ac->ops->name,
             k.workload, CELL_KEY_MAX - 1);
     return -1;
 }
@@ -626,7 +643,7 @@ int matrix_run(options *o)
             }
             if (in.rs->count == 0 && !o->quiet && status == 0)
                 fprintf(stderr, "  %s %s: the ray set has no rays: nothing is built or timed; its rows say rays 0, "
-                                "the measured columns empty\n", s->name, in.rs->workload);
+                                "the measured columns empty\n", term_text(s->name), in.rs->workload);
             for (int ai = 0; ai < o->naccels && status == 0; ai++) {
                 unsigned char st = *cell_state(&cells, o, si, wi, ai);
                 if (st == CELL_NONE) continue;
@@ -690,7 +707,7 @@ static void replay_ray(const scene_t *s, verifier_t *ver, const rayset_t *rs, ui
     const ray_t *r = &rs->rays[i];
     judge_t *j = verifier_judge(ver);
     printf("  ray %u of %s/%s (hash %016llx): org (%.9g %.9g %.9g) dir (%.9g %.9g %.9g) t [%.9g, %.9g) light %d\n", i,
-           s->name, rs->workload, (unsigned long long)rs->hash, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y,
+           term_text(s->name), rs->workload, (unsigned long long)rs->hash, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y,
            r->dir.z, r->tnear, r->tfar, r->light == RAY_NO_LIGHT ? -1 : (int)r->light);
     print_answer(j, accel_name, rs, got, i);
     print_answer(j, "embree", rs, ref, i);
@@ -724,7 +741,7 @@ static void print_mismatch(const options *o, const rayset_t *rs, const mismatch_
     }
     char cmd[2048];
     options_replay_command(o, scene_arg, rs->workload, ac, m->ray, cmd, sizeof cmd);
-    printf("\n      replay: %s\n", cmd);
+    printf("\n      replay: %s\n", term_text(cmd));
 }
 
 /* The verify table's columns; the text ones are as wide as their longest entry. */
@@ -736,7 +753,7 @@ typedef struct { int scene, workload, accel; } verify_widths;
 static verify_widths table_widths(const options *o)
 {
     verify_widths w = {5, 8, 5};
-    for (int i = 0; i < o->nscenes; i++) w.scene = (int)fmax(w.scene, strlen(o->scenes[i]));
+    for (int i = 0; i < o->nscenes; i++) w.scene = (int)fmax(w.scene, strlen(term_text(o->scenes[i])));
     for (int i = 0; i < o->nworkloads; i++) w.workload = (int)fmax(w.workload, strlen(o->workloads[i]->name));
     if (o->rays_file) w.workload = (int)fmax(w.workload, 31);
     for (int i = 0; i < o->naccels; i++) w.accel = (int)fmax(w.accel, strlen(o->accels[i].label));
@@ -806,7 +823,7 @@ int matrix_verify(options *o)
                                                    vr->mismatches[MM_ORIGIN], vr->mismatches[MM_TOL],
                                                    vr->mismatches[MM_REFWRONG], vr->mismatches[MM_REAL],
                                                    vr->mismatches[MM_UNJUDGED]};
-                printf("%-*s %-*s %-*s", w.scene, o->scenes[si], w.workload, in.rs->workload, w.accel, ac->label);
+                printf("%-*s %-*s %-*s", w.scene, term_text(o->scenes[si]), w.workload, in.rs->workload, w.accel, ac->label);
                 for (int k = 0; k < VERIFY_NCOUNTS; k++) printf(" %9llu", (unsigned long long)counts[k]);
                 printf("\n");
                 if (vr->mismatches[MM_REAL]) any_real = true;

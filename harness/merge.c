@@ -374,6 +374,15 @@ int merge_main(int argc, char **argv)
     char out_dir[PATH_MAX], csv_path[PATH_MAX + 16], info_path[PATH_MAX + 16];
     if (!status) status = output_folder(out, "", out_dir, sizeof out_dir);
     if (!status) {
+        /* Both files checked before either is written: a special file under either name is never replaced. */
+        snprintf(csv_path, sizeof csv_path, "%s/matrix.csv", out_dir);
+        snprintf(info_path, sizeof info_path, "%s/merge.txt", out_dir);
+        if (output_replaceable(csv_path, err, sizeof err) || output_replaceable(info_path, err, sizeof err)) {
+            fprintf(stderr, "accelbench merge: %s\n", err);
+            status = 2;
+        }
+    }
+    if (!status) {
         size_t total = header_len + 1;
         for (int k = 0; k < ncells; k++) total += row_len[k];
         char *text = malloc(total + 1);
@@ -386,7 +395,6 @@ int merge_main(int argc, char **argv)
             n = header_len;
             text[n++] = '\n';
             for (int k = 0; k < ncells; k++) memcpy(text + n, row[k], row_len[k]), n += row_len[k];
-            snprintf(csv_path, sizeof csv_path, "%s/matrix.csv", out_dir);
             status = write_replacing(csv_path, text, n, err, sizeof err);
             if (status) fprintf(stderr, "accelbench merge: %s\n", err);
             free(text);
@@ -407,7 +415,6 @@ int merge_main(int argc, char **argv)
             n += (size_t)snprintf(info + n, cap - n, "\n");
             for (int i = 0; i < nd; i++)
                 if (d[i].run_txt) n += (size_t)snprintf(info + n, cap - n, "\n--- %s/run.txt (shard %d/%d)\n%s", d[i].dir, d[i].m.k, d[i].m.n, d[i].run_txt);
-            snprintf(info_path, sizeof info_path, "%s/merge.txt", out_dir);
             status = write_replacing(info_path, info, strlen(info), err, sizeof err);
             if (status) fprintf(stderr, "accelbench merge: %s\n", err);
             free(info);

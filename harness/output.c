@@ -5,10 +5,12 @@
 #define ACCELBENCH_SOURCE_DIR "."
 #endif
 #include <errno.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -27,6 +29,41 @@ int mkdir_p(const char *path)
             *p = '/';
         }
     return mkdir(buf, 0777) && errno != EEXIST ? -1 : 0;
+}
+
+const char *term_text(const char *s)
+{
+    static _Thread_local char bufs[4][2048];
+    static _Thread_local int next;
+    char *buf = bufs[next++ & 3];
+    size_t n = 0, cap = sizeof bufs[0];
+    const unsigned char *c = (const unsigned char *)(s ? s : "");
+    for (; *c && n + 12 < cap; c++) {
+        const char *named = *c == '\n' ? "\\n" : *c == '\r' ? "\\r" : *c == '\t' ? "\\t" : NULL;
+        if (named) n += (size_t)snprintf(buf + n, cap - n, "%s", named);
+        else if (*c < 0x20 || *c == 0x7f) n += (size_t)snprintf(buf + n, cap - n, "\\x%02x", *c);
+        else if (*c == 0xc2 && c[1] >= 0x80 && c[1] <= 0x9f) { /* U+0080..U+009F: C1 controls (CSI is U+009B) */
+            n += (size_t)snprintf(buf + n, cap - n, "\\xc2\\x%02x", c[1]);
+            c++;
+        } else buf[n++] = (char)*c;
+    }
+    if (*c) n += (size_t)snprintf(buf + n, cap - n, "...");
+    buf[n] = 0;
+    return buf;
+}
+
+int output_replaceable(const char *path, char *err, size_t errlen)
+{
+    struct stat st;
+    if (stat(path, &st) != 0 || S_ISREG(st.st_mode)) return 0;
+    const char *what = S_ISDIR(st.st_mode)    ? "a directory"
+                       : S_ISFIFO(st.st_mode) ? "a FIFO"
+                       : S_ISCHR(st.st_mode)  ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : "a special file";
+    snprintf(err, errlen, "%s: is %s, not a regular file: not written (give the path of a file)", path, what);
+    return -1;
 }
 
 int output_folder(const char *given, const char *prefix, char *out, size_t outlen)
@@ -52,18 +89,35 @@ int output_folder(const char *given, const char *prefix, char *out, size_t outle
     return 0;
 }
 
+int spawn_wait(char *const argv[])
+{
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid < 0) return -1;
+    if (pid == 0) {
+        execv(argv[0], argv);
+        fprintf(stderr, "accelbench: cannot run %s: %s\n", argv[0], strerror(errno));
+        _exit(127);
+    }
+    int st;
+    while (waitpid(pid, &st, 0) < 0)
+        if (errno != EINTR) return -1;
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
 void run_plot_script(const char *script, const char *csv_path, bool quiet)
 {
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "/usr/bin/python3 '%s/scripts/%s' '%s' %s", ACCELBENCH_SOURCE_DIR, script, csv_path,
-             quiet ? "--quiet" : "");
+    char path[PATH_MAX];
+    snprintf(path, sizeof path, "%s/scripts/%s", ACCELBENCH_SOURCE_DIR, script);
     /* The script reads the parameters' defaults from this binary (its labels: name[what differs]). */
-    char self[1024];
+    char self[PATH_MAX];
     ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
     if (n > 0) {
         self[n] = 0;
         setenv("ACCELBENCH", self, 0);
     }
-    int rc = system(cmd);
+    char *argv[] = {"/usr/bin/python3", path, (char *)csv_path, quiet ? "--quiet" : NULL, NULL};
+    int rc = spawn_wait(argv);
     if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
 }

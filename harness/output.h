@@ -9,10 +9,29 @@
 /* mkdir -p; 0 or -1 with errno set. */
 int mkdir_p(const char *path);
 
+/* s as it may be printed to a terminal: control characters escaped (\n,
+ * \r, \t, others as \xHH, C1 controls as \xc2\xHH), so that a name
+ * cannot move the cursor, change colours or forge a line. The result is in
+ * one of four buffers of this thread, reused in turn: print it before the
+ * fifth call. Long names are cut with "...". */
+const char *term_text(const char *s);
+
+/* Whether path may be written (a new file, or one replacing it): 0 when
+ * it does not exist or is a regular file (symlinks followed); -1 with a
+ * one-line reason in err when it is a directory, FIFO, device or socket.
+ * Every writer of an output file asks first, so that no special file is
+ * replaced by a rename, written through, or waited on. */
+int output_replaceable(const char *path, char *err, size_t errlen);
+
 /* The output folder of a run: `given` when not NULL, else
  * results/<prefix><date-time UTC>; created with its parents. Returns 0,
  * or 2 after printing a one-line error. */
 int output_folder(const char *given, const char *prefix, char *out, size_t outlen);
+
+/* Run argv[0] (an absolute path) with the arguments argv (NULL-terminated)
+ * and wait for it: no shell, so paths may hold any character. Returns its
+ * exit status, or -1 when it could not be started or did not exit. */
+int spawn_wait(char *const argv[]);
 
 /* Run scripts/SCRIPT on a CSV with the system python (matplotlib comes from
  * Debian's python3-matplotlib); a failure is a warning, the CSV stands. */

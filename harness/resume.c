@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "csv.h"
+#include "output.h"
 
 typedef struct {
     char *text;       /* the record with its line break */
@@ -408,6 +409,7 @@ results_store *results_open(const char *dir, const char *path, results_found *fo
     s->git_col = csv_column_index("git_rev");
     *status = 2;
     if (lock_folder(s, dir, err, errlen)) goto fail;
+    if (output_replaceable(path, err, errlen)) goto fail;
     s->fd = open(path, O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0666);
     if (s->fd < 0) {
         set_err(err, errlen, path, "cannot open for appending");
@@ -590,6 +592,7 @@ int results_close(results_store *s, char *err, size_t errlen)
 
 int write_file_checked(const char *path, const char *mode, const char *text, char *err, size_t errlen)
 {
+    if (output_replaceable(path, err, errlen)) return -2;
     FILE *f = fopen(path, mode);
     if (!f) {
         set_err(err, errlen, path, "cannot open");

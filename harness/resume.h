@@ -43,7 +43,7 @@ typedef struct {
 /* Open (creating it) the results file at path in folder dir. Returns the
  * store, or NULL with a one-line reason in err and *status: 2 for a file
  * this program cannot take (other columns, a malformed record, another run
- * holding the folder, cannot open), 1 when a write (the header, the
+ * holding the folder, cannot open, not a regular file), 1 when a write (the header, the
  * repair of a torn tail) failed. */
 results_store *results_open(const char *dir, const char *path, results_found *found, char *err, size_t errlen,
                             int *status);
@@ -64,8 +64,9 @@ int results_close(results_store *s, char *err, size_t errlen);
 
 /* Write all of text to the file at path (mode "a" appends, "w" replaces)
  * and close it, every call checked. Returns 0, -1 with "PATH: write
- * failed: REASON" in err, or -2 with "PATH: cannot open: REASON". For
- * run.txt. */
+ * failed: REASON" in err, or -2 with "PATH: cannot open: REASON" (or the
+ * reason output_replaceable refuses a path that is not a regular file).
+ * For run.txt. */
 int write_file_checked(const char *path, const char *mode, const char *text, char *err, size_t errlen);
 
 #endif

@@ -12,31 +12,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 static bool is_dir(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
-}
-
-/* Run argv (no shell: paths may hold any character); its exit status, or -1. */
-static int spawn_wait(char *const argv[])
-{
-    fflush(stdout);
-    fflush(stderr);
-    pid_t pid = fork();
-    if (pid < 0) return -1;
-    if (pid == 0) {
-        execv(argv[0], argv);
-        fprintf(stderr, "accelbench: cannot run %s: %s\n", argv[0], strerror(errno));
-        _exit(127);
-    }
-    int st;
-    while (waitpid(pid, &st, 0) < 0)
-        if (errno != EINTR) return -1;
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
 int report_write(const char *dir, const char *out_html, const char *pictures, bool quiet)
@@ -58,6 +39,11 @@ int report_write(const char *dir, const char *out_html, const char *pictures, bo
     }
     if (out_html) snprintf(out, sizeof out, "%s", out_html);
     else snprintf(out, sizeof out, "%s/report.html", dir);
+    char why[PATH_MAX + 128];
+    if (output_replaceable(out, why, sizeof why)) {
+        fprintf(stderr, "accelbench report: %s%s\n", out_html ? "--out " : "", why);
+        return 2;
+    }
     /* The page's folder must exist: the report writes one file, it makes no folders. */
     char parent[PATH_MAX];
     snprintf(parent, sizeof parent, "%s", out);

@@ -27,10 +27,15 @@ import csv
 import math
 import os
 import re
+import stat
 import sys
+
+import warnings
 
 import matplotlib
 matplotlib.use("Agg")
+# A name's control characters have no glyph; matplotlib's warning would print them raw to the terminal.
+warnings.filterwarnings("ignore", message="Glyph .* missing from")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
 
@@ -48,6 +53,22 @@ def fail(msg):
     sys.exit(2)
 
 
+def check_replaceable(path):
+    """Exit 2 with one line when path exists and is not a regular file (a
+    directory, FIFO, device or socket): a file written there and renamed
+    over it would replace it. Symlinks are followed."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return
+    if stat.S_ISREG(st.st_mode):
+        return
+    kind = ("a directory" if stat.S_ISDIR(st.st_mode) else "a FIFO" if stat.S_ISFIFO(st.st_mode)
+            else "a character device" if stat.S_ISCHR(st.st_mode) else "a block device" if stat.S_ISBLK(st.st_mode)
+            else "a socket" if stat.S_ISSOCK(st.st_mode) else "a special file")
+    fail(f"{path}: is {kind}, not a regular file: not written (give the path of a file)")
+
+
 def num(value):
     """Parse a CSV field as float; empty or malformed fields give None."""
     try:
@@ -57,8 +78,9 @@ def num(value):
     return x if math.isfinite(x) else None
 
 
-def load_rows(path, required=REQUIRED):
-    """Read the CSV into a list of dicts, skipping short/long rows."""
+def load_rows(path, required=REQUIRED, check=None):
+    """Read the CSV into a list of dicts, skipping short/long rows, and rows
+    for which check(row) gives a reason (each named with its line)."""
     if not os.path.isfile(path):
         fail(f"{path}: no such file")
     try:
@@ -80,7 +102,13 @@ def load_rows(path, required=REQUIRED):
                       f"{len(rec)} fields, expected {len(header)}; row skipped",
                       file=sys.stderr)
                 continue
-            rows.append(dict(zip(header, rec)))
+            # A text field that begins with ' was guarded against spreadsheets' formulas (csv.c): unguard it.
+            row = dict(zip(header, (v[1:] if v.startswith("'") else v for v in rec)))
+            why = check(row) if check else None
+            if why:
+                print(f"{PROG}: warning: {path}:{reader.line_num}: {why}; row skipped", file=sys.stderr)
+                continue
+            rows.append(row)
     return rows
 
 

@@ -199,6 +199,30 @@ def fmt(v, digits=3):
     return f"{v:.{digits}g}" if abs(v) < 1e5 else f"{v:.3e}"
 
 
+# Measured columns a hand-edited or damaged CSV may spoil: ratios and times must be positive, counts not negative.
+POSITIVE = ("ratio_vs_embree", "ratio_min", "ratio_max", "embree_ms")
+NON_NEGATIVE = ("prims", "rays", "build_ms", "trace_ms", "trace_ms_min", "trace_ms_max", "mrays_per_s", "mem_bytes",
+                "bytes_per_prim", "tests_per_ray", "box_tests_per_ray", "steps_per_ray") + tuple(
+                    "mismatch_" + m for m in MISMATCH)
+
+
+def bad_measure(row):
+    """Why a row's numbers cannot be shown (None when they can): a field that is no finite number, a ratio or
+    Embree time of 0 or below, a negative time or count. Empty fields are fine (a ray set of no rays)."""
+    for col in POSITIVE + NON_NEGATIVE:
+        text = row.get(col, "")
+        if text == "":
+            continue
+        v = num(text)
+        if v is None:
+            return f"{col} {text!r} is not a number"
+        if v <= 0 and col in POSITIVE:
+            return f"{col} {text!r} is not above 0"
+        if v < 0:
+            return f"{col} {text!r} is negative"
+    return None
+
+
 def ratio_colour(r):
     """Background for a ratio cell: green below 1 (faster than Embree), red above, white at 1 (log scale, 8x full)."""
     if r is None:
@@ -773,13 +797,22 @@ def section_reproduce(run_dir):
 
 
 def write_page(path, body, title):
-    tmp = path + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
-                f'<meta name="viewport" content="width=device-width, initial-scale=1">'
-                f"<title>{esc(title)}</title><style>{CSS}</style></head><body>\n{body}\n"
-                f"<script>{SORT_JS}</script></body></html>\n")
-    os.replace(tmp, path)
+    """The page through a temporary file beside path, renamed over it."""
+    common.check_replaceable(path)
+    fd, tmp = tempfile.mkstemp(prefix=".report.", suffix=".tmp", dir=os.path.dirname(os.path.abspath(path)))
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+                    f'<meta name="viewport" content="width=device-width, initial-scale=1">'
+                    f"<title>{esc(title)}</title><style>{CSS}</style></head><body>\n{body}\n"
+                    f"<script>{SORT_JS}</script></body></html>\n")
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)
+        os.replace(tmp, path)
+    except BaseException:
+        os.unlink(tmp)
+        raise
 
 
 def main(argv=None):
@@ -795,7 +828,7 @@ def main(argv=None):
     if not os.path.isdir(args.run_dir):
         common.fail(f"{args.run_dir}: no such folder")
     csv_path = os.path.join(args.run_dir, "matrix.csv")
-    rows = common.load_rows(csv_path, common.REQUIRED + ("prims", "params", "threads"))
+    rows = common.load_rows(csv_path, common.REQUIRED + ("prims", "params", "threads"), check=bad_measure)
     rows = common.dedup_rows(rows, csv_path) if rows else rows
     binary = args.accelbench or os.environ.get("ACCELBENCH")
     if binary and not os.access(binary, os.X_OK):
@@ -806,6 +839,7 @@ def main(argv=None):
         print(growth_markdown(rows, labels))
         return 0
     out_path = args.out or os.path.join(args.run_dir, "report.html")
+    common.check_replaceable(out_path)
     title = f"accelbench report: {os.path.basename(os.path.abspath(args.run_dir))}"
     tmp = tempfile.mkdtemp(prefix="accelbench-report.")
     try:

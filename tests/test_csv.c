@@ -168,6 +168,18 @@ static void test_rows(void)
     CHECK_MSG(strcmp(f, r.scene) == 0, "%s", f);
     row_field(text, len, "cell_key", f, sizeof f);
     CHECK(strcmp(f, r.cell_key) == 0);
+    /* Names a spreadsheet would run (and one beginning with the guard itself) are written after a ' and read back. */
+    const char *formula[] = {"=cmd", "+1", "-x", "@at", "'q", "=a,\"b\""};
+    for (int i = 0; i < 6; i++) {
+        csv_row g = sample_row(formula[i], "primary", "scene=x accel=grid params=");
+        char *gt;
+        size_t gl;
+        CHECK(csv_format_row(&g, &gt, &gl) == 0);
+        CHECK_MSG(gt && (gt[0] == '\'' || (gt[0] == '"' && gt[1] == '\'')), "%s", gt);
+        row_field(gt, gl, "scene", f, sizeof f);
+        CHECK_MSG(strcmp(f, formula[i]) == 0, "%s", f);
+        free(gt);
+    }
     row_field(text, len, "run_id", f, sizeof f);
     CHECK(strcmp(f, run_id_current()) == 0);
     row_field(text, len, "cpu", f, sizeof f);
@@ -400,14 +412,16 @@ static void test_store(void)
     CHECK(t && len == strlen(h) + 1 && strncmp(t, h, strlen(h)) == 0);
     free(t);
 
-    /* A full device: the header's write fails, status 1, the reason named. */
+    /* A device (a symlink to /dev/full): refused, status 2, the reason named, the device left alone. */
     char full[300];
     snprintf(full, sizeof full, "%s/full.csv", dir);
     if (symlink("/dev/full", full) == 0) {
         s = results_open(dir, full, &fd, err, sizeof err, &status);
-        CHECK_MSG(!s && status == 1 && strstr(err, "full.csv: write failed: No space left on device"), "%s", err);
-        CHECK(write_file_checked(full, "a", "run info\n", err, sizeof err) == -1);
-        CHECK_MSG(strstr(err, "full.csv: write failed: No space left on device") != NULL, "%s", err);
+        CHECK_MSG(!s && status == 2 && strstr(err, "full.csv: is a character device, not a regular file"), "%s", err);
+        CHECK(write_file_checked(full, "a", "run info\n", err, sizeof err) == -2);
+        CHECK_MSG(strstr(err, "full.csv: is a character device, not a regular file") != NULL, "%s", err);
+        struct stat st;
+        CHECK(lstat(full, &st) == 0 && S_ISLNK(st.st_mode));
         unlink(full);
     } else {
         CHECK(!"cannot make a symlink to /dev/full");

@@ -6,9 +6,10 @@
 # python's csv module reads whole; the found/skipped message; --redo
 # replaces rows (no duplicates, other rows kept in place); other options
 # are other cells; SIGTERM and SIGINT abandon the cell in progress, exit
-# 128+signal and print the exact command that resumes; a write to a full
-# device (matrix.csv, run.txt, a saved ray file) or past the file size
-# limit is exit 1 with the reason and leaves no half row; a second run on
+# 128+signal and print the exact command that resumes; an output that is
+# a device (matrix.csv, run.txt, a saved ray file as symlinks to /dev/full)
+# is refused with exit 2, and a write past the file size limit (as on a
+# full disk) is exit 1 with the reason and leaves no half row; a second run on
 # the same folder is refused; a replayed ray file's own resolution and
 # samples are what the row says; a ray set of no rays gives rows with
 # rays 0 and empty measurements; plot.py keeps the last row of a cell.
@@ -161,20 +162,30 @@ out=$("$AB" "${RUN[@]}" --quiet --out "$T/lock" 2>&1); rc=$?
 kill -KILL "$pid"; wait "$pid" 2> /dev/null
 [ "$rc" = 2 ] && grep -q "another accelbench run is writing to this folder" <<<"$out" && ok || bad "second run on a held folder: exit $rc: $out"
 
-# --- failed writes: exit 1 with the reason, never a half row
+# --- outputs that are devices (a symlink to /dev/full): refused with one line, nothing replaced
 mkdir -p "$T/full" "$T/fullinfo" "$T/fullrays"
 ln -s /dev/full "$T/full/matrix.csv"
 out=$("$AB" "${RUN[@]}" --out "$T/full" 2>&1); rc=$?
-[ "$rc" = 1 ] && grep -q "$T/full/matrix.csv: write failed: No space left on device" <<<"$out" && ok || bad "matrix.csv on /dev/full: exit $rc: $out"
-grep -q "^wrote" <<<"$out" && bad "a failed run said it wrote the cells" || ok
+[ "$rc" = 2 ] && [ "$out" = "accelbench: $T/full/matrix.csv: is a character device, not a regular file: not written (give the path of a file)" ] \
+    && ok || bad "matrix.csv on /dev/full: exit $rc: $out"
 ln -s /dev/full "$T/fullinfo/run.txt"
 out=$("$AB" "${RUN[@]}" --out "$T/fullinfo" 2>&1); rc=$?
-[ "$rc" = 1 ] && grep -q "$T/fullinfo/run.txt: write failed: No space left on device" <<<"$out" && ok || bad "run.txt on /dev/full: exit $rc: $out"
+[ "$rc" = 2 ] && grep -q "$T/fullinfo/run.txt: is a character device" <<<"$out" && ok || bad "run.txt on /dev/full: exit $rc: $out"
 ln -s /dev/full "$T/fullrays/p.rays"
 out=$("$AB" run --scenes spd:balls:1 --accels exhaustive --workloads primary --res 8x8 --repeat 1 --no-plots \
       --save-rays "$T/fullrays/p.rays" --out "$T/fullrays" 2>&1); rc=$?
-[ "$rc" = 1 ] && grep -q "$T/fullrays/p.rays: write failed: No space left on device" <<<"$out" && ok || bad "ray file on /dev/full: exit $rc: $out"
-[ -c /dev/full ] && [ -L "$T/fullrays/p.rays" ] && ok || bad "/dev/full or the symlink to it was replaced"
+[ "$rc" = 2 ] && grep -q "$T/fullrays/p.rays: is a character device" <<<"$out" && ok || bad "ray file on /dev/full: exit $rc: $out"
+[ -c /dev/full ] && [ -L "$T/fullrays/p.rays" ] && [ -L "$T/full/matrix.csv" ] && [ -L "$T/fullinfo/run.txt" ] && ok \
+    || bad "/dev/full or a symlink to it was replaced"
+# --- failed writes (past the file size limit, as on a full disk): exit 1 with the reason, never a half row
+mkdir -p "$T/bigrays" "$T/biginfo"
+out=$(bash -c 'ulimit -f 8; trap "" XFSZ; exec "$@"' sh "$AB" run --scenes spd:balls:1 --accels exhaustive --workloads primary \
+      --res 64x64 --repeat 1 --no-plots --save-rays "$T/bigrays/p.rays" --out "$T/bigrays" 2>&1); rc=$?
+[ "$rc" = 1 ] && grep -q "$T/bigrays/p.rays: write failed: File too large" <<<"$out" && [ ! -e "$T/bigrays/p.rays" ] && ok \
+    || bad "ray file past the size limit: exit $rc: $out"
+head -c 8192 /dev/zero | tr '\0' '#' > "$T/biginfo/run.txt"
+out=$(bash -c 'ulimit -f 8; trap "" XFSZ; exec "$@"' sh "$AB" "${RUN[@]}" --out "$T/biginfo" 2>&1); rc=$?
+[ "$rc" = 1 ] && grep -q "$T/biginfo/run.txt: write failed: File too large" <<<"$out" && ok || bad "run.txt past the size limit: exit $rc: $out"
 # the file size limit reached mid-run (a disk filling up): exit 1, whole rows only, and the run resumes
 out=$(bash -c 'ulimit -f 3; trap "" XFSZ; exec "$@"' sh "$AB" "${RUN[@]}" --out "$T/fsize" 2>&1); rc=$?
 [ "$rc" = 1 ] && grep -q "$T/fsize/matrix.csv: write failed: File too large" <<<"$out" && ok || bad "file size limit: exit $rc: $out"

@@ -65,6 +65,7 @@ out=$(cd "$out" && pwd)
 
 # The matrix, once: every resubmission must run the same one (merge checks it too).
 args_file="$out/matrix.args"
+[ ! -e "$args_file" ] || [ -f "$args_file" ] || die "$args_file: exists and is not a regular file: not replaced"
 printf '%s\n' "$@" > "$args_file.new"
 if [ -f "$args_file" ] && ! cmp -s "$args_file" "$args_file.new"; then
     rm -f "$args_file.new"
