@@ -18,12 +18,10 @@
  *             plane, computed in double; for other primitives, how far the
  *             hit on it lies from the origin along the normal, t |d . n|):
  *             an ill-posed ray whose answer rounding decides; counted apart
- *             and never real. (A float t that close to the origin may be
- *             off by many times the origin's distance: on a thin wall seen
- *             edge-on from 1.2e-4 away, buildings' shadow ray 2761 at
- *             256x256, the watertight test put the hit at t = 0.0040 where
- *             the plane lies at t = -0.00057, so t |d . n| read 8.4e-4,
- *             past the bound of 7.6e-4);
+ *             and never real. (The origin's distance is measured, not
+ *             read from a hit's t: another test's float t that close to
+ *             the origin, on a thin wall seen edge-on, may be off by many
+ *             times that distance);
  *   tol       the same primitive, t off by no more than
  *             TOL_ULPS * u * (|o| + t |d|) / (|d| max(|cos|, GRAZE_COS)): a
  *             few float steps of the coordinates at the hit, magnified by
