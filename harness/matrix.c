@@ -89,8 +89,14 @@ static int save_rays_check(const options *o, int nsets)
         fprintf(stderr, "accelbench: --save-rays %s: cannot write in the folder: %s\n", o->save_rays, strerror(errno));
         return 2;
     }
+    struct stat st;
+    if (stat(o->save_rays, &st) == 0 && S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "accelbench: --save-rays %s: a folder, but one ray set is saved to a file: name the file\n",
+                o->save_rays);
+        return 2;
+    }
     char dir[PATH_MAX], err[PATH_MAX + 128];
-    if (output_replaceable(o->save_rays, err, sizeof err)) {
+    if (output_replaceable(o->save_rays, err, sizeof err)) { /* a device or a pipe is never replaced */
         fprintf(stderr, "accelbench: --save-rays %s\n", err);
         return 2;
     }
@@ -99,17 +105,6 @@ static int save_rays_check(const options *o, int nsets)
     if (!slash) snprintf(dir, sizeof dir, ".");
     else if (slash == dir) slash[1] = 0;
     else *slash = 0;
-    struct stat st;
-    if (stat(o->save_rays, &st) == 0 && S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "accelbench: --save-rays %s: a folder, but one ray set is saved to a file: name the file\n",
-                o->save_rays);
-        return 2;
-    }
-    if (stat(o->save_rays, &st) == 0 && !S_ISREG(st.st_mode)) { /* a device or a pipe is written directly */
-        if (access(o->save_rays, W_OK) == 0) return 0;
-        fprintf(stderr, "accelbench: --save-rays %s: cannot write: %s\n", o->save_rays, strerror(errno));
-        return 2;
-    }
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
         fprintf(stderr, "accelbench: --save-rays %s: folder %s does not exist\n", o->save_rays, dir);
         return 2;

@@ -3,6 +3,7 @@
  * value, and returns 2. */
 #include "options.h"
 #include "accel_spec.h"
+#include "output.h"
 #include "resources.h"
 #include "shard.h"
 #include "verify.h"
@@ -440,7 +441,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         size_t n = strlen(o->scenes[i]), most = sizeof ((scene_t *)0)->name - 1;
         if (n > most) {
             fprintf(stderr, "accelbench: scene '%.60s...': a name of %zu bytes%s, more than %zu (use a shorter path, "
-                            "or a symbolic link to the file)\n", o->scenes[i], n, o->view ? " with its --view" : "", most);
+                            "or a symbolic link to the file)\n", term_text(o->scenes[i]), n, o->view ? " with its --view" : "", most);
             return 2;
         }
     }
@@ -449,7 +450,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     for (int i = 0; i < o->nscenes; i++) {
         char why[1024];
         if (scene_check(o->scenes[i], why, sizeof why) != 0) {
-            fprintf(stderr, "accelbench: %s\n", why);
+            fprintf(stderr, "accelbench: %s\n", term_text(why));
             return 2;
         }
     }

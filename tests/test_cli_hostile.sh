@@ -48,7 +48,7 @@ refused "--out $T/fifo: is a FIFO, not a regular file" -- timeout 60 "$AB" repor
 refused "--out $T/dir: is a directory, not a regular file" -- timeout 60 "$AB" report "$R" --out "$T/dir"
 refused "$T/fifo: is a FIFO" -- timeout 60 "$PY" "$SRCDIR/scripts/report.py" "$R" --out "$T/fifo" --pictures off
 refused "--save-rays $T/fifo: is a FIFO" -- timeout 60 "$AB" "${RUN[@]}" --no-plots --out "$T/sr" --save-rays "$T/fifo"
-refused "--save-rays $T/dir: is a directory" -- timeout 60 "$AB" verify --scenes spd:balls:1 --accels exhaustive \
+refused "--save-rays $T/dir: a folder, but one ray set" -- timeout 60 "$AB" verify --scenes spd:balls:1 --accels exhaustive \
     --workloads primary --res 8x8 --save-rays "$T/dir"
 refused "--save-rays /dev/null: is a character device" -- timeout 60 "$AB" "${RUN[@]}" --no-plots --out "$T/sr" \
     --save-rays /dev/null
