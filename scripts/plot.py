@@ -389,9 +389,16 @@ def geomean(values):
     return math.exp(sum(map(math.log, pos)) / len(pos)) if pos else None
 
 
+# The overview's rows: a figure is at most 65536 pixels high (matplotlib's limit), and a heat map of more rows
+# than this is not read on one page anyway; the scenes past it are in the per-scene figures and the report's table.
+OVERVIEW_MAX_SCENES = 300
+
+
 def plot_overview(rows, labels, scenes, path, written):
-    """Heat map of geometric-mean ratio_vs_embree, scene x accelerator."""
+    """Heat map of geometric-mean ratio_vs_embree, scene x accelerator (the first OVERVIEW_MAX_SCENES scenes)."""
     configs = [c for c in ordered(config_key(r) for r in rows) if c[0] != "embree"]
+    total = len(scenes)
+    scenes = scenes[:OVERVIEW_MAX_SCENES]
     grid = [[geomean([num(r.get("ratio_vs_embree")) for r in rows
                       if r["scene"] == s and config_key(r) == c]) for c in configs]
             for s in scenes]
@@ -413,8 +420,9 @@ def plot_overview(rows, labels, scenes, path, written):
     ax.set_yticks(range(len(scenes)), [f"{s} ({prims[s]} prims)" for s in scenes])
     ax.set_xlabel("accelerator")
     ax.set_ylabel("scene")
+    shown = f"; the first {len(scenes)} of {total} scenes" if total > len(scenes) else ""
     ax.set_title("Trace time relative to Embree, same rays\n"
-                 "(geometric mean over workloads; >1 = slower than Embree)")
+                 f"(geometric mean over workloads; >1 = slower than Embree{shown})")
     fig.colorbar(im, ax=ax, label="ratio vs Embree [×]")
     footer(fig, rows)
     save(fig, path, written)
