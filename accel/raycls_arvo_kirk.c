@@ -20,7 +20,11 @@
  *     maxcands and the leaf shallower than maxdepth, the leaf is split along
  *     all five axes at their midpoints into 32 children that inherit (point
  *     to) its list, and the child holding the ray is culled in turn. The
- *     other 31 are culled only when a ray first reaches them;
+ *     other 31 are culled only when a ray first reaches them. An origin
+ *     axis whose halves would be narrower than float coordinates at B
+ *     resolve (common/float_res.h: float_res_min_cell of B and the slack
+ *     pad below) is left unsplit: far from the origin the pad outgrows
+ *     such halves and every child would keep its parent's list;
  *   - culling (C(H) n Beam(H)): beam=cone bounds the beam by a cone and each
  *     primitive by a sphere (the survey: "only a rough approximation, but
  *     very fast"); beam=exact tests the primitive's bounding box against the
@@ -148,6 +152,7 @@
 #include "accel.h"
 #include "raycls_arvo_kirk.h"
 #include "common/dircube.h"
+#include "common/float_res.h"
 #include "common/mailbox.h"
 #include "common/memcap.h"
 #include "common/prim_test.h"
@@ -194,6 +199,7 @@ typedef struct {
     long memcap;
     box3 box; /* B */
     float pad;
+    float min_cell; /* narrowest origin-box side a split makes (float_res_min_cell of B and pad) */
     float *key;    /* [6 n] minimum extent along each face's direction */
     float *sphere; /* [4 n] centre x, y, z, radius */
     rc_node *nodes;
@@ -409,14 +415,21 @@ static bool rc_cull(rc_t *r, uint32_t h)
 }
 
 /* Split leaf h into 32 children at the midpoints of its five axes; they
- * inherit its list. false: memcap refused. */
+ * inherit its list. An origin axis whose halves would be narrower than
+ * min_cell is not split (float_res.h: far from the origin the slack pad
+ * outgrows such halves, and every child would keep its parent's list): its
+ * midpoint is put at lo, so the children with that axis's bit set hold all
+ * of it and the others, [lo, lo), are never reached (rc_reachable). The
+ * u-v axes are always split. false: memcap refused. */
 static bool rc_split(rc_t *r, uint32_t h)
 {
     if (!rc_reserve(r, RC_FANOUT, 0)) return false;
     rc_node *nd = &r->nodes[h];
     uint32_t first = r->nnodes;
     float mid[5];
-    for (int k = 0; k < 5; k++) mid[k] = nd->lo[k] + 0.5f * (nd->hi[k] - nd->lo[k]);
+    for (int k = 0; k < 5; k++)
+        mid[k] = k < 3 && 0.5f * (nd->hi[k] - nd->lo[k]) < r->min_cell ? nd->lo[k]
+                                                                         : nd->lo[k] + 0.5f * (nd->hi[k] - nd->lo[k]);
     for (uint32_t c = 0; c < RC_FANOUT; c++) {
         rc_node *ch = &r->nodes[first + c];
         for (int k = 0; k < 5; k++) {
@@ -437,6 +450,20 @@ static bool rc_split(rc_t *r, uint32_t h)
 static bool wants_split(const rc_t *r, const rc_node *nd)
 {
     return nd->count > r->maxcands && nd->depth < r->maxdepth;
+}
+
+/* Whether the descent (rc_child) can reach node h: not when, on an axis
+ * whose bit h lacks, its parent's midpoint is the parent's lo (an axis left
+ * unsplit, or one too narrow for its midpoint to round above lo). */
+static bool rc_reachable(const rc_t *r, uint32_t h)
+{
+    const rc_node *nd = &r->nodes[h], *up = &r->nodes[nd->parent];
+    if (nd->parent == h) return true; /* a root */
+    uint32_t bits = h - up->child;
+    const float *mid = r->nodes[up->child + RC_FANOUT - 1].lo;
+    for (int k = 0; k < 5; k++)
+        if (!((bits >> k) & 1) && mid[k] <= up->lo[k]) return false;
+    return true;
 }
 
 /* -------------------------------------------------------------- locate */
@@ -738,6 +765,7 @@ static void scene_box(rc_t *r)
     r->pad = 2e-6f * fmaxf(maxabs3(b.lo), maxabs3(b.hi)) + 1e-6f * box_diagonal(b);
     for (int a = 0; a < 3; a++) *lo[a] -= r->pad, *hi[a] += r->pad;
     r->box = b;
+    r->min_cell = float_res_min_cell(b, r->pad);
 }
 
 /* Keys, spheres and the six sorted root lists. */
@@ -783,10 +811,12 @@ static void build_roots(rc_t *r, keyed *scratch)
 
 /* lazy=off: every hypercube by the same rule, breadth first (the node
  * array is the queue), so that memcap, if it stops the build, stops it at
- * an even depth everywhere. */
+ * an even depth everywhere. Hypercubes no ray can reach (rc_reachable) keep
+ * their parent's list and are not split. */
 static void build_eager(rc_t *r)
 {
     for (uint32_t h = 0; h < r->nnodes && !r->capped; h++) {
+        if (!rc_reachable(r, h)) continue;
         if (!r->nodes[h].own && !rc_cull(r, h)) {
             refuse(r);
             break;

@@ -28,7 +28,10 @@
  * builder splits every node over objsize at its centroid median, so leaves
  * are even and spatially compact; built over the distinct primitives, each
  * cluster then taking every copy of its members: common/coincident.h, so
- * copies make one cluster instead of many that all see each other). Each cluster gets a bounding sphere
+ * copies make one cluster instead of many that all see each other). Far
+ * from the origin clusters are kept at least as wide as float coordinates
+ * there resolve (make_clusters), and may then hold more than objsize. Each
+ * cluster gets a bounding sphere
  * (centre: its box's centre; radius: the farthest corner of any member's
  * box). Every cluster is both an entity (rays originate on it) and an
  * object (rays hit it). Lights are entities with lights=on: the coherence
@@ -74,7 +77,8 @@
  * with its defaults, and is counted as it counts.
  *
  * Parameters (defaults): res (8) cells per cube face side, 1..64;
- * objsize (64) primitives per cluster at most, 1..65536; fallback (bvh,
+ * objsize (64) primitives per cluster at most (but for the float
+ * resolution rule of make_clusters), 1..65536; fallback (bvh,
  * the wide SIMD BVH, the fastest besides Embree) the accelerator for rays
  * without a usable origin, any registered one that answers closest hits,
  * does not mutate and is not raycoh; spheres
@@ -128,6 +132,7 @@
 #include "bvh/bvh.h"
 #include "common/coincident.h"
 #include "common/dircube.h"
+#include "common/float_res.h"
 #include "common/memcap.h"
 #include "common/prim_test.h"
 #include "raycoh_ohta_maekawa.h"
@@ -175,7 +180,8 @@ typedef struct { accel_ctx *fb; void (*fb_free)(accel_ctx *); } rc_ctx; /* the f
 
 static const accel_param rc_params[] = {
     {"res", "8", "cells per direction-cube face side, 1..64 (6 res^2 cells per cluster)"},
-    {"objsize", "64", "primitives per cluster at most, 1..65536 (clusters: the kit's median BVH leaves)"},
+    {"objsize", "64", "primitives per cluster at most, 1..65536 (clusters: the kit's median BVH leaves; far from the "
+                      "origin none narrower than float coordinates resolve, so possibly more)"},
     {"fallback", "bvh", "accelerator for rays without a usable origin primitive (eye, random rays): a registry name"},
     {"lights", "off", "off|on: on: a shadow ray toward a scene light is answered by that light's direction cube, "
                       "a light buffer (lightbuf with its defaults); off: by the cube of the primitive it leaves"},
@@ -297,7 +303,66 @@ static void cluster_sphere(const prims_t *p, const uint32_t *ids, rc_obj *o)
     o->r = nextafterf((float)((sqrt(r2) + moved) * (1.0 + 1e-7)), INFINITY);
 }
 
-/* The clusters are made over the distinct primitives (common/coincident.h):
+/* Whether box b fits in a cube of side w (every side narrower than w). */
+static bool fits_cube(box3 b, float w)
+{
+    vec3 e = box_extent(b);
+    return e.x < w && e.y < w && e.z < w;
+}
+
+/* The distinct primitives' copies: class c's members are
+ * members[mstart[c] .. mstart[c + 1]). */
+typedef struct {
+    const uint32_t *mstart, *members;
+} rc_classes;
+
+/* The clusters below BVH node k (over the distinct primitives): a leaf, or
+ * a node one of whose children fits in a cube of side min_cell, is one
+ * cluster (every copy of every primitive below it, leaf after leaf); any
+ * other node is split into its children's. */
+static void emit_clusters(rc_t *t, const bvh_t *b, const rc_classes *cl, uint32_t k, float min_cell, uint32_t *first)
+{
+    const bvh_node *nd = &b->nodes[k];
+    bool whole = nd->count || fits_cube(b->nodes[nd->index].box, min_cell) ||
+                 fits_cube(b->nodes[nd->index + 1].box, min_cell);
+    if (whole) {
+        rc_obj *o = &t->objs[t->nobj];
+        o->first = *first, o->count = 0;
+        uint32_t stack[64], top = 0; /* the median tree is balanced: depth about log2(n / objsize) */
+        stack[top++] = k;
+        while (top) {
+            const bvh_node *q = &b->nodes[stack[--top]];
+            if (!q->count) {
+                stack[top++] = q->index + 1, stack[top++] = q->index;
+                continue;
+            }
+            for (uint32_t j = 0; j < q->count; j++) {
+                uint32_t c = b->refs[q->index + j];
+                for (uint32_t m = cl->mstart[c]; m < cl->mstart[c + 1]; m++) {
+                    t->ids[*first + o->count++] = cl->members[m];
+                    t->prim_obj[cl->members[m]] = t->nobj;
+                }
+            }
+        }
+        cluster_sphere(t->p, &t->ids[o->first], o);
+        *first += o->count, t->nobj++;
+        return;
+    }
+    emit_clusters(t, b, cl, nd->index, min_cell, first);
+    emit_clusters(t, b, cl, nd->index + 1, min_cell, first);
+}
+
+/* Clusters: the median BVH's leaves of at most objsize primitives, except
+ * that no cluster is made narrower than float coordinates at the scene's
+ * position resolve (common/float_res.h): far from the origin the margin
+ * that grows every sphere outgrows small clusters, every sphere then
+ * covers its neighbours and every cell lists them all, so a node with a
+ * child narrower than float_res_min_cell(scene box, margin) on every side
+ * stays one cluster (more than objsize primitives). For a scene around the
+ * origin that width (4 margins) is about 1e-5 of the scene's size, below
+ * the clusters of anything but a tiny detail in a huge scene.
+ *
+ * The clusters are made over the distinct primitives (common/coincident.h):
  * every copy of one goes into its cluster, which may so hold more than
  * objsize. Clusters of copies would all lie at one place, each seeing all
  * the others in every direction: lists quadratic in the copies. */
@@ -341,8 +406,7 @@ static int make_clusters(rc_t *t)
         free(mstart), free(members);
         return -1;
     }
-    t->nobj = b.nleaves;
-    t->objs = malloc((size_t)t->nobj * sizeof *t->objs + 1);
+    t->objs = malloc((size_t)b.nleaves * sizeof *t->objs + 1);
     t->ids = malloc((size_t)n * sizeof *t->ids + 1);
     t->prim_obj = malloc((size_t)n * sizeof *t->prim_obj + 1);
     if (!t->objs || !t->ids || !t->prim_obj) {
@@ -350,22 +414,10 @@ static int make_clusters(rc_t *t)
         free(mstart), free(members);
         return -1;
     }
-    uint32_t k = 0, first = 0;
-    for (uint32_t i = 0; i < b.nnodes; i++) {
-        const bvh_node *nd = &b.nodes[i];
-        if (!nd->count) continue;
-        rc_obj *o = &t->objs[k];
-        o->first = first, o->count = 0;
-        for (uint32_t j = 0; j < nd->count; j++) {
-            uint32_t c = b.refs[nd->index + j];
-            for (uint32_t q = mstart[c]; q < mstart[c + 1]; q++) {
-                t->ids[first + o->count++] = members[q];
-                t->prim_obj[members[q]] = k;
-            }
-        }
-        cluster_sphere(p, &t->ids[first], o);
-        first += o->count, k++;
-    }
+    uint32_t first = 0;
+    t->nobj = 0;
+    rc_classes cl = {mstart, members};
+    emit_clusters(t, &b, &cl, 0, float_res_min_cell(p->box, t->margin), &first);
     bvh_free(&b);
     free(mstart), free(members);
     return 0;
@@ -558,9 +610,7 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
                         (unsigned long long)maxobj, t->ncell_per_obj))
         goto fail;
     box3 sb = t->p->box;
-    float mag = fmaxf(fmaxf(fmaxf(fabsf(sb.lo.x), fabsf(sb.lo.y)), fmaxf(fabsf(sb.lo.z), fabsf(sb.hi.x))),
-                      fmaxf(fabsf(sb.hi.y), fabsf(sb.hi.z)));
-    t->margin = n ? 1e-6f * box_diagonal(sb) + 4e-6f * mag + 1e-30f : 0.0f;
+    t->margin = n ? 1e-6f * box_diagonal(sb) + 4e-6f * float_res_magnitude(sb) + 1e-30f : 0.0f;
     t->nodes = malloc((size_t)4 * t->ncell_per_obj * sizeof *t->nodes);
     if (!t->nodes) goto oom;
     for (int f = 0; f < 6; f++) t->roots[f] = build_node(t, f, 0, (uint16_t)t->res, 0, (uint16_t)t->res);

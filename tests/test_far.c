@@ -64,24 +64,6 @@ static const struct { const char *accel, *settings; } extra[] = {
     {"bvh", "split=sbvh"},
 };
 
-/* Builds whose memory still grows far from the origin, documented rather
- * than hidden: each must still show the growth (the exception goes when it
- * is fixed). Their answers are checked like every other's. */
-static const struct { const char *label; double offset; const char *why; } known_growth[] = {
-    {"raycoh", 1e5, "cluster spheres grow by a margin of 4e-6 max|coordinate|, so far from the origin every cluster's "
-                    "sphere covers its neighbours and every cell lists them"},
-    {"raycoh", 1e7, "the same margin"},
-    {"raycls[lazy=off]", 1e5, "the eager 5D subdivision's candidate lists grow with the coordinates' magnitude"},
-    {"raycls[lazy=off]", 1e7, "the same lists"},
-};
-
-static const char *known(const char *label, double offset)
-{
-    for (size_t i = 0; i < sizeof known_growth / sizeof known_growth[0]; i++)
-        if (!strcmp(known_growth[i].label, label) && known_growth[i].offset == offset) return known_growth[i].why;
-    return NULL;
-}
-
 static bool through_prims(const struct accel_ops *ops)
 {
     return strcmp(ops->name, "embree") != 0 && strcmp(ops->name, "cgal-aabb") != 0;
@@ -153,12 +135,7 @@ static void check_one(const struct accel_ops *ops, const char *settings, far_sce
         mem[k] = a->ops->memory(a);
         printf(" | %g: %8.1f KiB %7.1f ms", offsets[k], mem[k] / 1024.0, ms[k]);
         fflush(stdout);
-        const char *why = known(label, offsets[k]);
-        if (why) {
-            CHECK_MSG(mem[k] > MEM_FACTOR * mem[0] + MEM_SLACK, "%s at %g: the known growth is gone; drop the exception",
-                      label, offsets[k]);
-            printf(" (%.1fx, known: %s)", (double)mem[k] / (mem[0] ? mem[0] : 1), why);
-        } else if (k > 0 && mem[k] > MEM_FACTOR * mem[0] + MEM_SLACK) {
+        if (k > 0 && mem[k] > MEM_FACTOR * mem[0] + MEM_SLACK) {
             CHECK_MSG(false, "%s at %g: %zu bytes, %.1fx the origin's %zu", label, offsets[k], mem[k],
                       (double)mem[k] / (mem[0] ? mem[0] : 1), mem[0]);
             a->ops->destroy(a); /* too big to trace in the suite's time */
