@@ -417,7 +417,7 @@ static int make_clusters(rc_t *t)
     uint32_t first = 0;
     t->nobj = 0;
     rc_classes cl = {mstart, members};
-    emit_clusters(t, &b, &cl, 0, float_res_min_cell(p->box, t->margin), &first);
+    if (m) emit_clusters(t, &b, &cl, 0, float_res_min_cell(p->box, t->margin), &first); /* m = 0: no tree */
     bvh_free(&b);
     free(mstart), free(members);
     return 0;
