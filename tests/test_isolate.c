@@ -71,6 +71,17 @@ static void check_fails(isolate_fn fn, void *arg, uint64_t max, const char *expe
     printf("child: %s\n", why);
 }
 
+/* child_writes's n bytes came back whole and in order (how: "" or "in process: "); frees out. */
+static void check_written(const char *how, int rc, char *out, size_t len, size_t n, const char *why)
+{
+    CHECK_MSG(rc == 0 && len == n, "%src %d, %zu of %zu bytes: %s", how, rc, len, n, rc ? why : "");
+    if (rc != 0) return;
+    size_t bad = 0;
+    for (size_t i = 0; i < len; i++) bad += out[i] != (char)(i * 7);
+    CHECK_MSG(bad == 0 && out[len] == '\0', "%s%zu bytes differ", how, bad);
+    free(out);
+}
+
 int main(void)
 {
     check_fails(child_segv, NULL, 1 << 20, "crashed with signal 11");
@@ -94,13 +105,7 @@ int main(void)
     /* Output arrives whole, in order, across many pipe buffers. */
     size_t n = 5u << 20;
     rc = isolate_run(child_writes, &n, 64u << 20, &out, &len, why, sizeof why);
-    CHECK_MSG(rc == 0 && len == n, "rc %d, %zu of %zu bytes: %s", rc, len, n, rc ? why : "");
-    if (rc == 0) {
-        size_t bad = 0;
-        for (size_t i = 0; i < len; i++) bad += out[i] != (char)(i * 7);
-        CHECK_MSG(bad == 0 && out[len] == '\0', "%zu bytes differ", bad);
-        free(out);
-    }
+    check_written("", rc, out, len, n, why);
     int zero = 0;
     rc = isolate_run(child_status, &zero, 1 << 20, &out, &len, why, sizeof why);
     CHECK(rc == 0 && len == 0 && out && out[0] == '\0');
@@ -126,13 +131,7 @@ int main(void)
 
     /* In process: the same output, whole, and the same failures (but a crash would be ours). */
     rc = isolate_run_in_process(child_writes, &n, 64u << 20, &out, &len, why, sizeof why);
-    CHECK_MSG(rc == 0 && len == n, "in process: rc %d, %zu of %zu bytes: %s", rc, len, n, rc ? why : "");
-    if (rc == 0) {
-        size_t bad = 0;
-        for (size_t i = 0; i < len; i++) bad += out[i] != (char)(i * 7);
-        CHECK_MSG(bad == 0 && out[len] == '\0', "in process: %zu bytes differ", bad);
-        free(out);
-    }
+    check_written("in process: ", rc, out, len, n, why);
     out = (char *)1;
     rc = isolate_run_in_process(child_status, &three, 1 << 20, &out, &len, why, sizeof why);
     CHECK_MSG(rc == -1 && out == NULL && strstr(why, "exited with status 3"), "in process: rc %d, why '%s'", rc, why);
