@@ -4,14 +4,42 @@
  * keys are refused there), or ACCEL.KEY=VALUE, set on that one only, as
  * --param gives it. Every accelerator is then built with what was set
  * (a memory cap above FUZZ_MEMCAP_MIB lowered to it: exercise.h), over the fixed
- * scene, and traced (exercise.c) with the scene's primary and random rays. */
+ * scene, and traced (exercise.c) with the scene's primary and random rays.
+ * A line "--accels LIST" goes to the --accels parser instead
+ * (harness/accel_spec.c, sweeps included): it must stay inside the array it
+ * is given and label every instance it returns. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "../harness/accel_spec.h"
 #include "exercise.h"
 
 int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size);
 
 #define MAX_ACCELS 32
+#define MAX_INSTANCES 8 /* small, so that a sweep's limit is reached often */
+
+static void fuzz_accel_list(const char *list)
+{
+    accel_config out[MAX_INSTANCES + 1];
+    memset(&out[MAX_INSTANCES], 0xA5, sizeof out[MAX_INSTANCES]); /* a guard the parser must not touch */
+    accel_config guard;
+    memcpy(&guard, &out[MAX_INSTANCES], sizeof guard);
+    char err[512] = "";
+    int n = accel_spec_expand(list, out, MAX_INSTANCES, err, sizeof err);
+    if (n > MAX_INSTANCES || memcmp(&guard, &out[MAX_INSTANCES], sizeof guard) != 0) {
+        fprintf(stderr, "fuzz: --accels gave %d instances into an array of %d\n", n, MAX_INSTANCES);
+        abort();
+    }
+    if (n < 0 && err[0] == '\0') {
+        fprintf(stderr, "fuzz: --accels refused without a reason\n");
+        abort();
+    }
+    for (int i = 0; i < n; i++) {
+        char label[1024];
+        accel_config_label(&out[i], label, sizeof label);
+    }
+}
 
 int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size)
 {
@@ -27,6 +55,10 @@ int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size)
     text[size] = '\0';
     char err[512], *save = NULL;
     for (char *line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
+        if (strncmp(line, "--accels ", 9) == 0) {
+            fuzz_accel_list(line + 9);
+            continue;
+        }
         char *eq = strchr(line, '='), *key = line;
         if (!eq) continue;
         *eq = '\0';

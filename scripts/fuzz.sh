@@ -16,11 +16,28 @@
 # build-fuzz/corpus/NAME/, never into the repository.
 #
 # Replay one input: build-fuzz/fuzz/fuzz_NAME FILE
+#
+# fuzz.sh --campaign NAME RUNS: one harness for RUNS executions in libFuzzer's
+# fork mode (-fork=1), with a random seed. A crash, timeout or out-of-memory
+# stops the child it happened in, not the campaign: each is left in
+# build-fuzz/artifacts/NAME/ and listed at the end, and the exit status is
+# 1 when there is any. fuzz_mesh needs this: assimp, uninstrumented, runs in
+# its process, and a defect of assimp's own (which the product isolates in
+# its forked reader) would otherwise end the campaign at the first one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-SECONDS_EACH=${1:-60}
-case "$SECONDS_EACH" in '' | *[!0-9]*) echo "usage: scripts/fuzz.sh [SECONDS]" >&2; exit 2 ;; esac
+USAGE="usage: scripts/fuzz.sh [SECONDS] | scripts/fuzz.sh --campaign NAME RUNS"
 HARNESSES=(nff mesh rays params scenes)
+CAMPAIGN=""
+if [ "${1:-}" = --campaign ]; then
+    [ $# = 3 ] || { echo "$USAGE" >&2; exit 2; }
+    CAMPAIGN=$2 RUNS=$3
+    case " ${HARNESSES[*]} " in *" $CAMPAIGN "*) ;; *) echo "fuzz: no harness '$CAMPAIGN' (${HARNESSES[*]})" >&2; exit 2 ;; esac
+    case "$RUNS" in '' | *[!0-9]*) echo "$USAGE" >&2; exit 2 ;; esac
+else
+    SECONDS_EACH=${1:-60}
+    case "$SECONDS_EACH" in '' | *[!0-9]*) echo "$USAGE" >&2; exit 2 ;; esac
+fi
 B=build-fuzz
 
 scripts/setup.sh > /dev/null # the packages and libraries every build needs
@@ -59,6 +76,25 @@ export LSAN_OPTIONS=suppressions=$PWD/fuzz/lsan.supp
 # (isolated in the product by the forked reader) stops the fuzzer; a campaign uses FUZZ_SEED=0 (libFuzzer's own).
 SEED=${FUZZ_SEED:-1}
 case "$SEED" in '' | *[!0-9]*) echo "fuzz: FUZZ_SEED must be a number" >&2; exit 2 ;; esac
+if [ -n "$CAMPAIGN" ]; then
+    h=$CAMPAIGN log=$B/fuzz/campaign_$CAMPAIGN.log
+    mkdir -p $B/corpus/$h $B/artifacts/$h
+    echo "fuzz: campaign of fuzz_$h, $RUNS executions; the log is $log"
+    start=$(date +%s)
+    stamp=$B/fuzz/campaign_$CAMPAIGN.start
+    touch "$stamp" # what this campaign finds is newer than it
+    rc=0
+    $B/fuzz/fuzz_$h -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 -seed=0 -runs="$RUNS" -timeout=30 \
+        -rss_limit_mb=2048 -dict=fuzz/$h.dict -artifact_prefix=$B/artifacts/$h/ $B/corpus/$h fuzz/corpus/$h > "$log" 2>&1 || rc=$?
+    last=$(grep -E '^#[0-9]+:' "$log" | tail -1)
+    echo "fuzz_$h: exit $rc after $(($(date +%s) - start)) s; last status: ${last:-none}"
+    echo "fuzz_$h: corpus $(find $B/corpus/$h -type f | wc -l) inputs in $B/corpus/$h"
+    found=$(find $B/artifacts/$h -type f -newer "$stamp" | sort)
+    [ -z "$found" ] && { echo "fuzz_$h: no crash, leak, timeout or out-of-memory"; exit "$rc"; }
+    echo "fuzz_$h: found (replay with $B/fuzz/fuzz_$h FILE):"
+    echo "$found"
+    exit 1
+fi
 failed=()
 for h in "${HARNESSES[@]}"; do
     mkdir -p $B/corpus/$h $B/artifacts/$h
