@@ -127,9 +127,9 @@ static bool locate(const catalogue_entry *e, char *file, size_t filelen, char *e
     char where[1024];
     if (scene_path_find(e->path, file, filelen, where, sizeof where)) return true;
     snprintf(err, errlen,
-             "scene '%s': %s is not on the scene path (looked in %s); get it from %s, converted as scenes/README.md "
-             "says, into a folder named in $ACCELBENCH_SCENES",
-             e->name, e->path, where, e->origin);
+             "scene '%s': %s is not on the scene path (looked in %s); get it from %s with scripts/get-scenes.sh %s "
+             "(it converts it as scenes/README.md says, into the scene path's user folder)",
+             e->name, e->path, where, e->origin, e->name);
     return false;
 }
 

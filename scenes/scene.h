@@ -111,13 +111,19 @@ bool scene_catalogue_available(const char *name, char *where, size_t len);
  * Meshes from public repositories are not part of the project (only
  * generated data and what Debian ships is): they are found by file name in
  * the folders of $ACCELBENCH_SCENES (colon-separated), then in
- * $ACCELBENCH_SHARED_SCENES, which defaults to ../shared/scenes beside the
- * checkout, where developers and CI have them (set it empty to search only
+ * $ACCELBENCH_SHARED_SCENES, which defaults to two folders: ../shared/scenes
+ * beside the checkout, where developers and CI have them, and the user
+ * folder scripts/get-scenes.sh fills (set it empty to search only
  * $ACCELBENCH_SCENES, as on a machine without them). */
 
 /* Find `file` on the scene path: true with its full path in out. where
  * always gets the folders searched, ", "-separated, in order. */
 bool scene_path_find(const char *file, char *out, size_t outlen, char *where, size_t wherelen);
+
+/* The user folder of the scene path: $XDG_CACHE_HOME/accelbench/scenes, else
+ * $HOME/.cache/accelbench/scenes; false when neither variable is an
+ * absolute path. */
+bool scene_path_user_folder(char *out, size_t outlen);
 
 /* --- views (view.c) ---
  * A view moves the camera and, for a named view of a closed interior whose

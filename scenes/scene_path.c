@@ -2,11 +2,14 @@
  *
  * The meshes fetched from public repositories (Sibenik, Sponza, the 100k
  * Stanford scans) may not be committed to the project, so they live outside
- * it: in the folders of $ACCELBENCH_SCENES, then in the shared folder beside
- * the checkout (../shared/scenes, where developers and CI have them; meson
- * compiles the source directory in). $ACCELBENCH_SHARED_SCENES replaces that
- * folder, and empty drops it, so a test can see what a fresh machine sees.
- * The environment is read on every call: tests change it between loads. */
+ * it: in the folders of $ACCELBENCH_SCENES, then in two default folders:
+ * the shared folder beside the checkout (../shared/scenes, where developers
+ * and CI have them; meson compiles the source directory in) and the user's
+ * cache, where scripts/get-scenes.sh puts them ($XDG_CACHE_HOME, else
+ * ~/.cache, then accelbench/scenes). $ACCELBENCH_SHARED_SCENES replaces both
+ * defaults with one folder, and empty drops them, so a test can see what a
+ * fresh machine sees. The environment is read on every call: tests change it
+ * between loads. */
 #include "scene.h"
 
 #include <stdlib.h>
@@ -33,6 +36,16 @@ static bool try_dir(const char *dir, size_t dirlen, const char *file, char *out,
     return true;
 }
 
+bool scene_path_user_folder(char *out, size_t outlen)
+{
+    const char *xdg = getenv("XDG_CACHE_HOME"), *home = getenv("HOME");
+    int n;
+    if (xdg && xdg[0] == '/') n = snprintf(out, outlen, "%s/accelbench/scenes", xdg);
+    else if (home && home[0] == '/') n = snprintf(out, outlen, "%s/.cache/accelbench/scenes", home);
+    else return false;
+    return n > 0 && (size_t)n < outlen;
+}
+
 bool scene_path_find(const char *file, char *out, size_t outlen, char *where, size_t wherelen)
 {
     where[0] = '\0';
@@ -45,8 +58,15 @@ bool scene_path_find(const char *file, char *out, size_t outlen, char *where, si
         p = colon + 1;
     }
     const char *shared = getenv("ACCELBENCH_SHARED_SCENES");
-    if (!shared) shared = SHARED_SCENES;
-    if (try_dir(shared, strlen(shared), file, out, outlen, where, wherelen)) return true;
+    if (shared) {
+        if (try_dir(shared, strlen(shared), file, out, outlen, where, wherelen)) return true;
+    } else {
+        if (try_dir(SHARED_SCENES, strlen(SHARED_SCENES), file, out, outlen, where, wherelen)) return true;
+        char cache[4096];
+        if (scene_path_user_folder(cache, sizeof cache) &&
+            try_dir(cache, strlen(cache), file, out, outlen, where, wherelen))
+            return true;
+    }
     if (!where[0]) snprintf(where, wherelen, "no folder: $ACCELBENCH_SCENES and $ACCELBENCH_SHARED_SCENES are empty");
     return false;
 }

@@ -21,13 +21,13 @@
 # fork mode (-fork=1), with a random seed. A crash, timeout or out-of-memory
 # stops the child it happened in, not the campaign: each is left in
 # build-fuzz/artifacts/NAME/ and listed at the end, and the exit status is
-# 1 when there is any. fuzz_mesh needs this: assimp, uninstrumented, runs in
-# its process, and a defect of assimp's own (which the product isolates in
+# 1 when there is any. fuzz_mesh and fuzz_obj need this: assimp, uninstrumented, runs in
+# their process, and a defect of assimp's own (which the product isolates in
 # its forked reader) would otherwise end the campaign at the first one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 USAGE="usage: scripts/fuzz.sh [SECONDS] | scripts/fuzz.sh --campaign NAME RUNS"
-HARNESSES=(nff mesh rays params scenes)
+HARNESSES=(nff mesh obj rays params scenes)
 CAMPAIGN=""
 if [ "${1:-}" = --campaign ]; then
     [ $# = 3 ] || { echo "$USAGE" >&2; exit 2; }
@@ -72,8 +72,8 @@ export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 export LSAN_OPTIONS=suppressions=$PWD/fuzz/lsan.supp
 # A fixed seed (FUZZ_SEED, default 1): the same mutations on every run, so a machine that runs fewer executions in
-# the time runs a prefix of the same sequence. fuzz_mesh runs assimp in process, where a defect of assimp's own
-# (isolated in the product by the forked reader) stops the fuzzer; a campaign uses FUZZ_SEED=0 (libFuzzer's own).
+# the time runs a prefix of the same sequence. fuzz_mesh and fuzz_obj run assimp in process, where a defect of
+# assimp's own (isolated in the product by the forked reader) stops the fuzzer; --campaign runs in fork mode instead.
 SEED=${FUZZ_SEED:-1}
 case "$SEED" in '' | *[!0-9]*) echo "fuzz: FUZZ_SEED must be a number" >&2; exit 2 ;; esac
 if [ -n "$CAMPAIGN" ]; then

@@ -30,3 +30,19 @@ refused_run() {
 }
 expect() { expect_run "$@"; }
 refused() { refused_run "$@"; }
+# require_meshes NAME...: the guard of a script that needs meshes from public repositories (catalogue
+# names): when one is absent from the scene path, one line naming it and the command that gets it, then
+# exit 77 (meson's SKIP), or exit 1 where the meshes are required (CI=true or ACCELBENCH_REQUIRE_SCENES=1).
+# tests/require_meshes.h is the same guard for the C tests.
+require_meshes() {
+    local listing absent=() n
+    listing=$("$AB" list scenes 2>&1)
+    for n in "$@"; do grep -qE "^$n +[^ ]+ +\[scene path, absent" <<<"$listing" && absent+=("$n"); done
+    [ ${#absent[@]} = 0 ] && return 0
+    if [ "${CI:-}" = true ] || [ "${ACCELBENCH_REQUIRE_SCENES:-}" = 1 ]; then
+        echo "FAIL: ${absent[*]} not on the scene path; get it with scripts/get-scenes.sh ${absent[*]} (CI=true or ACCELBENCH_REQUIRE_SCENES=1: the meshes are required)"
+        exit 1
+    fi
+    echo "SKIP: ${absent[*]} not on the scene path; get it with scripts/get-scenes.sh ${absent[*]}"
+    exit 77
+}

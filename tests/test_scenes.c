@@ -439,7 +439,10 @@ static void test_scene_path(void)
     CHECK(!strcmp(path, SP "/a/sponza.obj.xz"));
     /* Not in the user's folders: the shared folder beside the checkout is last. */
     CHECK(!scene_path_find("nosuch.obj.xz", path, sizeof path, where, sizeof where));
-    CHECK_MSG(strstr(where, SP "/b, ") && strstr(where, shared), "looked in '%s'", where);
+    if (shared[0])
+        CHECK_MSG(strstr(where, SP "/b, ") && strstr(where, shared), "looked in '%s'", where);
+    else /* the defaults dropped, as on a machine without them */
+        CHECK_MSG(!strcmp(where, SP "/nothere, " SP "/a, " SP "/b"), "looked in '%s'", where);
 
     scene_t *s = scene_load("sibenik", err, sizeof err);
     CHECK_MSG(s && s->prims.ntris == 1, "sibenik from the path: %s", err);
@@ -470,6 +473,31 @@ static void test_scene_path(void)
     setenv("ACCELBENCH_SCENES", "", 1);
     setenv("ACCELBENCH_SHARED_SCENES", SP "/a", 1);
     CHECK(scene_path_find("sponza.obj.xz", path, sizeof path, where, sizeof where) && !strcmp(where, SP "/a"));
+    /* The user folder scripts/get-scenes.sh fills: after the shared folder,
+     * when no folder replaces the defaults; $XDG_CACHE_HOME, else ~/.cache. */
+    const char *env_xdg = getenv("XDG_CACHE_HOME");
+    char xdg[4096];
+    snprintf(xdg, sizeof xdg, "%s", env_xdg ? env_xdg : "");
+    unsetenv("ACCELBENCH_SHARED_SCENES");
+    CHECK(system("mkdir -p " SP "/xdg/accelbench/scenes && cp " SP "/a/sponza.obj.xz " SP
+                 "/xdg/accelbench/scenes/only-cached.obj.xz") == 0);
+    setenv("XDG_CACHE_HOME", SP "/xdg", 1);
+    CHECK(scene_path_user_folder(path, sizeof path) && !strcmp(path, SP "/xdg/accelbench/scenes"));
+    CHECK(scene_path_find("only-cached.obj.xz", path, sizeof path, where, sizeof where));
+    CHECK_MSG(!strcmp(path, SP "/xdg/accelbench/scenes/only-cached.obj.xz"), "found %s", path);
+    CHECK(!scene_path_find("nosuch.obj.xz", path, sizeof path, where, sizeof where));
+    CHECK_MSG(strstr(where, "/../shared/scenes, " SP "/xdg/accelbench/scenes") != NULL, "looked in '%s'", where);
+    setenv("XDG_CACHE_HOME", "relative", 1); /* not absolute: ignored, as the XDG rules say */
+    const char *home = getenv("HOME");
+    if (home && home[0] == '/') {
+        char want[4096];
+        snprintf(want, sizeof want, "%s/.cache/accelbench/scenes", home);
+        CHECK(scene_path_user_folder(path, sizeof path) && !strcmp(path, want));
+    }
+    if (env_xdg)
+        setenv("XDG_CACHE_HOME", xdg, 1);
+    else
+        unsetenv("XDG_CACHE_HOME");
     if (env_shared)
         setenv("ACCELBENCH_SHARED_SCENES", shared, 1);
     else
