@@ -1,5 +1,5 @@
 /* accel_spec.h: accelerator instances as --accels names them, parameter
- * sweeps included (README: Parameter sweeps).
+ * sweeps included (docs/cli.md: --accels).
  *
  *   LIST  := ITEM (',' ITEM)*            a comma inside [...] belongs to the item
  *   ITEM  := NAME | NAME '[' KV (',' KV)* ']'

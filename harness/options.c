@@ -48,7 +48,7 @@ static const struct option long_opts[] = {
 
 #define MEMCAP_USAGE \
     "  --memcap MIB            refuse work estimated above MIB MiB before allocating it (default: half the memory\n" \
-    "                          this process may use; also bounds accelerators' memcap; README: Limits and resources)\n"
+    "                          this process may use; also bounds accelerators' memcap; docs/limits.md)\n"
 
 void options_usage(FILE *out, const char *cmd)
 {

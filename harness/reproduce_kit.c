@@ -36,7 +36,7 @@ void rp_usage_options(FILE *out)
             "  --no-plots     do not call the experiment's plot script at the end\n"
             "  --quiet        no progress on stderr\n"
             "  --memcap MIB   refuse work estimated above MIB MiB before allocating it (default: half the memory\n"
-            "                 this process may use; README: Limits and resources)\n"
+            "                 this process may use; docs/limits.md)\n"
             "  Every measurement is verified against Embree: exit 1 on any real mismatch, 2 on bad input.\n");
 }
 

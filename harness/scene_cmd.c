@@ -25,7 +25,7 @@ static void usage(FILE *out)
             "          SCENE@VIEW or --view 'eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG' moves the camera\n"
             "  export  write the scene as NFF; reading it back gives the same hash\n"
             "  --memcap MIB  refuse a scene estimated above MIB MiB before making it (default: half the memory\n"
-            "                this process may use; README: Limits and resources)\n");
+            "                this process may use; docs/limits.md)\n");
 }
 
 static void print_info(const scene_t *s, double load_ms)

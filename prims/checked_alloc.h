@@ -35,8 +35,8 @@ __attribute__((noreturn, cold)) static inline void checked_alloc_failed(uint64_t
     if (bytes == UINT64_MAX) snprintf(size, sizeof size, "more than 2^64 bytes");
     else if (bytes) snprintf(size, sizeof size, "%llu bytes (%.1f MiB)", (unsigned long long)bytes, (double)bytes / 1048576.0);
     fflush(stdout);
-    fprintf(stderr, "accelbench: out of memory: cannot allocate %s for %s; ask for less work or free memory (README: "
-            "Limits and resources)\n", size, what ? what : "an allocation");
+    fprintf(stderr, "accelbench: out of memory: cannot allocate %s for %s; ask for less work or free memory "
+            "(docs/limits.md)\n", size, what ? what : "an allocation");
     exit(2);
 }
 

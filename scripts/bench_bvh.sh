@@ -1,5 +1,5 @@
 #!/bin/bash
-# bench_bvh.sh: the benchmark of the bounding volume hierarchies (issue 11)
+# bench_bvh.sh: the benchmark of the bounding volume hierarchies
 # against Embree: Goldsmith-Salmon's bvh-gs with each insertion order
 # (given, sorted, and shuffle with K = 1, 8 and 32 trees, the cheapest by
 # eq. (3) kept), Kay-Kajiya's slabs-kk with 3 and 7 plane-set normals and

@@ -1,5 +1,5 @@
 #!/bin/bash
-# bench_champion.sh: issue 13's target matrix for the champion accelerator
+# bench_champion.sh: the target matrix of the champion accelerator
 # `bvh` against Embree: the medium meshes (set:medium), Sponza's interior
 # (`sponza`, whose default view is inside the atrium) and spd:balls:4:t;
 # primary, shadow, reflection, diffuse and random rays; 1 and 2 threads.

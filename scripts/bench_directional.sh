@@ -1,5 +1,5 @@
 #!/bin/bash
-# bench_directional.sh: the benchmark of the directional techniques (issue 12)
+# bench_directional.sh: the benchmark of the directional techniques
 # against grid-raybox, the kit's SAH BVH (slabs-kk with the three axes,
 # tree=sah, 4 primitives per leaf, depth-first) and Embree, on the SPD
 # databases at their default sizes with their own lights (set:spd: tree has

@@ -1,6 +1,6 @@
 #!/bin/bash
 # bench_subdivision.sh: the benchmark of the nonuniform space subdivisions
-# (issue 10) against the grids and Embree: octree (defaults), bsp with each
+# against the grids and Embree: octree (defaults), bsp with each
 # traversal (recursive = Jansen, the default; sequential = Kaplan; havran =
 # TA^B_rec) on Kaplan's midpoint planes, bsp split=sah, grid at Havran and
 # Sixta's D = 20 (res=cubic:20, its default since this benchmark) and at

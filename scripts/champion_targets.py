@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Judge the champion accelerator `bvh` against issue 13's targets from a
+"""Judge the champion accelerator `bvh` against its targets from a
 matrix.csv written by scripts/bench_champion.sh (Markdown on stdout, or
 --out FILE; the ratio plot with --plot FILE.png).
 
@@ -198,7 +198,7 @@ def main(argv=None):
     def uniq(col, rs=rows):
         return ", ".join(v for v in dict.fromkeys(r.get(col, "") for r in rs) if v) or "?"
     isa = ", ".join(dict.fromkeys(param(r, "isa") for r in bvh_rows)) or "?"
-    out = [f"# Issue 13's targets from {args.csv}\n",
+    out = [f"# The champion's targets from {args.csv}\n",
            f"ISA of bvh's box kernels: **{isa}** (params column); machine {uniq('machine')}, cpu {uniq('cpu')}; "
            f"threads {', '.join(m.threads)}; git {uniq('git_rev')}.\n",
            f"bvh parameters: `{uniq('params', [r for r in bvh_rows if role(r) == 'bvh'])}`.\n",

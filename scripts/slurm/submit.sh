@@ -2,8 +2,8 @@
 # submit.sh: an accelbench matrix on a Slurm cluster: a job array of N
 # shards (scripts/slurm/matrix.sbatch, one task a shard, --cpus-per-task =
 # --threads), then the merge (scripts/slurm/merge.sbatch) with
-# --dependency=afterok on the array. Prints both job ids. README "Running
-# on a Slurm cluster".
+# --dependency=afterok on the array. Prints both job ids. See
+# docs/cluster.md.
 #
 #   scripts/slurm/submit.sh --shards N --out DIR [options] -- RUN_ARGS...
 #
