@@ -223,7 +223,7 @@ static inline float plane_t(const walk_t *w, int a, float s)
 }
 
 /* Kaplan's sequential traversal (survey fig. 11), point location by
- * distance along the ray (see the header). */
+ * distance along the ray (docs/accels/bsp.md, "Node layout and memory"). */
 static inline __attribute__((always_inline)) bool walk_sequential(walk_t *w, float t0, float t1, hit_t *hit,
                                                                   counters_t *c, const bool shadow,
                                                                   const bool counting)

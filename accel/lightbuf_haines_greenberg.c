@@ -532,8 +532,8 @@ static void cell_corners(const lb_t *t, uint32_t cell, dv d[4])
 /* ------------------------------------------------------------ culling */
 
 /* Culling's build-time part: comp[id] is the component of primitive id
- * when it lies wholly on one qualifying closed convex component (see the
- * header), else LB_NONE; ctris[] are the triangles of the qualifying
+ * when it lies wholly on one qualifying closed convex component (docs/accels/
+ * directional.md, cull), else LB_NONE; ctris[] are the triangles of the qualifying
  * components, grouped by component (cfirst[c] .. cfirst[c + 1]). */
 typedef struct {
     uint32_t *comp;
@@ -1185,7 +1185,7 @@ static int on_off(const accel_params *params, const char *key, bool *out, char *
     return 0;
 }
 
-/* res=auto (see the header): per light, the primitives' centres are
+/* res=auto (docs/accels/directional.md): per light, the primitives' centres are
  * binned on a coarse cube of G x G cells a face, 6 G^2 = N / 4 (about 4 a
  * cell were they spread over every direction); with O of its cells
  * occupied, N / O primitives a cell there, the resolution at which that
@@ -1315,7 +1315,7 @@ BODY bool slab_misses(const lb_slab *s, dv ps, dv pe)
     return (a > s->hi && b > s->hi) || (a < s->lo && b < s->lo);
 }
 
-/* The query of the header (steps 1-5). */
+/* The query: the file header's query invariants, in their order. */
 BODY bool query(const lb_t *t, const ray_t *ray, counters_t *c, const bool counting)
 {
     if (ray->light >= t->nlights || !isfinite(ray->tfar)) return fallback(t, ray, c, counting);

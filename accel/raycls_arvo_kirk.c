@@ -202,7 +202,7 @@ static void t_bound(double c, double rhs, double *tlo, double *thi)
     else if (rhs < 0) *tlo = INFINITY; /* 0 <= rhs fails: empty */
 }
 
-/* Box q against the beam itself (see the file header). */
+/* Box q against the beam itself (beam=exact; docs/accels/directional.md). */
 static bool exact_keeps(const rc_beam *b, box3 q)
 {
     double qlo[3], qhi[3];
