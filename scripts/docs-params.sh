@@ -17,7 +17,8 @@ check=0
 if [ "${1:-}" = --check ]; then check=1; shift; fi
 ab=${1:-${ACCELBENCH:-$here/build/harness/accelbench}}
 gen=$("$ab" list accels --markdown) || { echo "docs-params.sh: '$ab list accels --markdown' failed" >&2; exit 2; }
-GEN="$gen" exec python3 - "$here/docs/accels" "$check" "$ab" <<'PY'
+# $(...) drops the output's last newline, which the last section's end marker needs.
+GEN="$gen"$'\n' exec python3 - "$here/docs/accels" "$check" "$ab" <<'PY'
 import difflib, glob, os, re, sys
 
 docs, check, ab = sys.argv[1], sys.argv[2] == "1", sys.argv[3]
@@ -38,7 +39,7 @@ for p, text in pages.items():
             problems += 1
             print(f"{p}: a parameter section for '{name}', which `accelbench list accels` does not list")
             continue
-        if m.group(0) != generated[name]:
+        if m.group(0) != generated[name] and check:
             problems += 1
             sys.stdout.writelines(difflib.unified_diff(m.group(0).splitlines(True), generated[name].splitlines(True),
                                                        f"{p} (params:{name})", f"{ab} list accels --markdown"))
