@@ -49,6 +49,8 @@ for p, text in pages.items():
             open(p, "w").write(new)
             print(f"rewrote {p}")
 if check and problems:
+    if any(len(ps) != 1 for ps in where.values()):
+        print("an accelerator needs its page: put its two marker comments on one page of docs/accels/, then")
     print("regenerate the sections with: scripts/docs-params.sh " + ab)
     sys.exit(1)
 if not check and any(len(ps) != 1 for ps in where.values()):
