@@ -1,108 +1,46 @@
 /* bsp_kaplan_jansen.c: `bsp`, the axis-orthogonal BSP tree (kd-tree) with
- * three traversals.
+ * three traversals. Reference: docs/accels/bsp.md.
  *
- * Papers (the survey is J. Arvo, D. Kirk, "A Survey of Ray Tracing
- * Acceleration Techniques", in Glassner (ed.), An Introduction to Ray
- * Tracing, 1989, s5.1 and figures 11 and 12; s5.3 for the two caveats):
+ * Papers (the survey: J. Arvo, D. Kirk, "A Survey of Ray Tracing
+ * Acceleration Techniques", 1989, s5.1, figures 11 and 12, and s5.3):
  *   M. R. Kaplan, "Space-Tracing: A Constant Time Ray-Tracer", SIGGRAPH '85
- *     course notes: BSP with axis-orthogonal planes at the cell's spatial
- *     midpoint, axes in turn, explicit child pointers, and "sequential"
- *     traversal (survey fig. 11: locate the cell holding a point, test its
- *     candidates, make a point in the next cell, locate again from the root).
+ *     course notes: midpoint planes, axes in turn, sequential traversal.
  *   F. W. Jansen, "Data Structures for Ray Tracing", Eurographics workshop
- *     Data Structures for Raster Graphics, 1986: "recursive" traversal
- *     (survey fig. 12): the ray's distance interval is clipped by each plane
- *     it pierces, the near segment descended first, the far one discarded
- *     when the near one found a hit inside it.
- *   V. Havran, "Heuristic Ray Shooting Algorithms", PhD thesis, Czech
- *     Technical University in Prague, 2000: the robust recursive traversal
- *     TA^B_rec, which decides by the coordinates of the entry and exit
- *     points of the ray segment (not by distances), so a ray lying in a
- *     split plane (the "Z" cases) takes one side without a 0 * inf.
- *   I. Wald, V. Havran, "On building fast kd-Trees for Ray Tracing, and on
- *     doing that in O(N log N)", RT'06: the SAH event sweep and perfect
- *     splits; the costs and termination of pbrt-v4's KdTreeAggregate
- *     (accel/common/kd_sah.c says which rule comes from where).
+ *     1986: recursive traversal (near segment first, far one dropped when
+ *     the near one holds a hit).
+ *   V. Havran, "Heuristic Ray Shooting Algorithms", PhD thesis, Prague
+ *     2000: TA^B_rec, sides decided by entry and exit point coordinates.
+ *   I. Wald, V. Havran, RT'06: the SAH event sweep and perfect splits, with
+ *     pbrt-v4's KdTreeAggregate costs and termination (kd_sah.c).
  *
- * Parameters (defaults):
- *   split=midpoint     midpoint (Kaplan: spatial midpoint, axes in turn,
- *                      candidates by exact surface/cell overlap) | sah
- *                      (Wald-Havran sweep, pbrt-v4 costs).
- *   traverse=recursive recursive (Jansen) | sequential (Kaplan) | havran
- *                      (TA^B_rec). All three visit the same cells and test
- *                      the same primitives up to float ties at planes.
- *   maxdepth=auto      pbrt-v4's round(8 + 1.3 floor(log2 N)); 0 makes one
- *                      leaf of everything (exhaustive through the tree);
- *                      more than 64 (KD_MAX_DEPTH) is refused.
- *   maxprims=auto      a cell with at most this many candidates is a leaf:
- *                      auto = 1 for sah (pbrt-v4's maxPrims) and 2 for
- *                      midpoint (the octree's rule of this testbed: a
- *                      midpoint cell around a mesh vertex always holds its
- *                      fan, so 1 subdivides every vertex to maxdepth).
- *   isectcost=80, travcost=1, emptybonus=0.5   SAH costs (pbrt-v4).
- *   perfect=off        SAH only: clip primitives to the cell (Wald-Havran
- *                      perfect splits, prims/clip.c prim_clip_bounds).
- *   mailbox=on         Arnaldi mailboxes (survey s5.3), per thread
- *                      (accel/common/mailbox.h, 4 bytes per primitive per
- *                      thread): a primitive met again in a later cell is
- *                      not tested again.
- *   memcap=4096        MiB: the tree and its build scratch; a build that
- *                      would pass it stops and is refused with a reason.
+ * The tree, its 8-byte nodes and both builders are accel/common/kd_tree.h;
+ * this file is the three traversals. The tree's memory: the bsp_t, nodes
+ * (8 bytes each, depth-first) and leaf id lists (4 bytes a reference;
+ * one-primitive leaves keep the id in the node). Per thread: the mailbox
+ * (4 bytes a primitive). Stacks on the C stack: recursive 12 bytes a
+ * level, havran 24, sequential none.
  *
- * Node (accel/common/kd_tree.h): 8 bytes, pbrt's layout: interior = split
- * float + (above child index << 2 | axis), the below child next in memory;
- * leaf = a primitive id (one primitive) or an offset into the id array +
- * (count << 2 | 3).
- * Memory layout (memory() counts it): the bsp_t (about 100 bytes), nodes
- * (8 bytes each, depth-first), the leaves' id lists (4 bytes per
- * reference, sorted by id; one-primitive leaves keep theirs in the node).
- * Per thread (context, not in memory()): the mailbox, 4 bytes a primitive.
- * Traversal stacks live on the C stack: recursive 12 bytes a level,
- * havran 24 bytes a level, sequential none.
- *
- * Hits (survey s5.3): every candidate is tested over [tnear, closest hit so
- * far), so the running hit is the mailbox's "stored result"; a traversal
- * stops only in the cell whose exit distance is at or past the hit, i.e. a
- * hit is accepted in the cell that contains it, never in an earlier one.
- * Any-hit queries stop at the first occluder.
- *
- * Robustness. The tree has a slack, pad = 2e-6 max|coordinate| + 1e-6
- * diagonal of the root cell (the uniform grid's, some 16 float ulps): a
- * primitive that comes within pad of a child cell is in it (kd_tree.h), so
- * a primitive straddling, lying in or touching a plane is on both sides and
- * found from either. That is what the traversals need: Kaplan's point
- * location and Havran's TA^B_rec visit ONE side of a plane the ray only
- * touches (a ray through a mesh vertex lying in two planes passes the
- * cells around it in a point), and every float decision at a plane is off
- * by a few ulps at most, inside the slack. The ray is clipped to the root
- * cell grown by pad, its far end scaled up (slab_clip_robust). The cost:
- * the SAH cannot split exactly at a vertex with the triangles ending there
- * on one side and those starting there on the other (Wald-Havran's rule);
- * one of the two groups straddles (kd_sah.c). A ray parallel to a plane (a
- * +-0 direction component on its axis) never crosses it and goes to the
- * side of its origin; lying in the plane, below (Havran's Z2 case), for
- * all three traversals. A component so small that its reciprocal overflows
- * is not parallel: the plane's distance is then computed by division.
- *
- * Sequential traversal, exactly: Kaplan's "point in the next cell" is the
- * exit point of the current cell pushed an infinitesimal step along the
- * ray. Point location compares the point's distance t along the ray with
- * each plane's distance (the side of the plane is then known exactly from
- * the sign of the direction: at t == the plane's distance the point is
- * already on the far side), and the exit distance is the nearest plane
- * ahead among those the descent passed (or the root cell's exit). No
- * minlen/2 offset: at coordinates in the thousands (gen:room, Sibenik) a
- * fixed offset is either lost to rounding or steps over a thin cell.
+ * Invariants:
+ *   - a primitive within pad (about 16 float ulps) of a child cell is in
+ *     it, so a primitive in or touching a plane is found from either side,
+ *     and a float decision at a plane, a few ulps off, stays inside it;
+ *   - the ray is clipped to the root cell grown by pad (slab_clip_robust);
+ *   - a ray parallel to a plane (+-0 component) goes to its origin's side,
+ *     lying in it to the side below (Havran's Z2), in all three traversals;
+ *     a component whose reciprocal overflows is not parallel: the plane's
+ *     distance is then computed by division;
+ *   - candidates are tested over [tnear, tHit); a traversal stops only in
+ *     the cell whose exit is at or past the hit; any hit stops at the first
+ *     occluder;
+ *   - sequential: the next point is the exit pushed an infinitesimal step
+ *     (a plane at exactly the point's t is already behind it), never a
+ *     fixed offset, which rounding would lose far from the origin.
  *
  * Counters: box_tests = 1 root clip per ray; steps = nodes visited (every
- * node of every descent for sequential); empty_leaves = leaves visited
- * with no candidate; mailbox_hits. intersect_fast/occluded_fast are the
- * same traversals compiled without them. Statistics: nodes (interior),
- * leaves, empty_leaves, max_depth, avg_leaf_prims, refs_per_prim.
- *
- * Not implemented: Kaplan's and Jansen's exact termination rules (their
- * papers are not at hand; pbrt-v4's depth rule stands in), neighbour
- * links ("ropes"), packet traversal, parallel builds. */
+ * node of every descent for sequential); empty_leaves; mailbox_hits.
+ * intersect_fast/occluded_fast are the same traversals without them.
+ * Not implemented: Kaplan's and Jansen's own termination rules (pbrt-v4's
+ * depth rule stands in), ropes, packets, parallel builds. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -285,7 +223,7 @@ static inline float plane_t(const walk_t *w, int a, float s)
 }
 
 /* Kaplan's sequential traversal (survey fig. 11), point location by
- * distance along the ray (see the header). */
+ * distance along the ray (docs/accels/bsp.md, "Node layout and memory"). */
 static inline __attribute__((always_inline)) bool walk_sequential(walk_t *w, float t0, float t1, hit_t *hit,
                                                                   counters_t *c, const bool shadow,
                                                                   const bool counting)

@@ -1,232 +1,54 @@
-/* bvh_champion.c: `bvh`, the wide SIMD BVH of issue 13: a
- * binned SAH binary tree collapsed to 2, 4 or 8 children a node, traversed
- * nearest child first with all children's boxes tested at once by SSE4.2,
- * AVX2 or AVX-512 kernels chosen at run time.
+/* bvh_champion.c: `bvh`, the wide SIMD BVH: a binned SAH binary tree
+ * collapsed to 2, 4 or 8 children a node, traversed nearest child first
+ * with all children's boxes tested at once by SSE4.2, AVX2 or AVX-512
+ * kernels chosen at run time. Reference: docs/accels/wide-bvh.md.
  *
  * Papers:
- *   - tree=embree: Embree's own builder (Wald et al., ACM TOG 33(4), 2014,
- *     section 4.3) through its rtcBuildBVH API, for diagnosis only;
- *   - build: the kit's binned SAH builder (accel/bvh/build_sah.c): the
- *     surface area heuristic of J. D. MacDonald, K. S. Booth, "Heuristics
- *     for Ray Tracing Using Space Subdivision", The Visual Computer 6(3),
- *     1990, binned as I. Wald, "On Fast Construction of SAH-based Bounding
- *     Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007;
- *     on a scene of triangles only, leaf costs in whole packets of 4 as
- *     Embree's builder counts blocks (I. Wald, S. Woop, C. Benthin,
- *     G. S. Johnson, M. Ernst, "Embree: A Kernel Framework for Efficient
- *     CPU Ray Tracing", ACM TOG 33(4), 2014); the subtrees below the
- *     top built on the harness's threads (accel_params threads), the
- *     same tree for every count (accel/bvh/build.c: Wald, IEEE TVCG 2012);
- *   - split=sbvh: spatial splits, M. Stich, H. Friedrich, A. Dietrich,
- *     "Spatial Splits in Bounding Volume Hierarchies", HPG 2009 (s3; the
- *     overlap threshold alpha of s3.2), accel/bvh/build_sbvh.c, with the
- *     primitives clipped exactly by prims/clip.c (prim_clip_bounds);
- *   - wide nodes and their collapse from a binary SAH tree (accel/bvh/
- *     collapse.c): H. Dammertz, J. Hanika, A. Keller, "Shallow Bounding
- *     Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays",
- *     EGSR 2008; M. Ernst, G. Greiner, "Multi Bounding Volume Hierarchies",
- *     IEEE RT 2008; I. Wald, C. Benthin, S. Boulos, "Getting Rid of
- *     Packets: Efficient SIMD Single-Ray Traversal using Multi-branching
- *     BVHs", IEEE RT 2008;
- *   - robust box tests: T. Ize, "Robust BVH Ray Traversal", JCGT 2(2),
- *     2013, through accel/common/slab.h's arithmetic (fma=off), or with one
- *     fused multiply-add a plane and directed per-ray constants (fma=on,
- *     wide_walk.h: Ize's argument, rounding in the constants instead of a
- *     far scale);
- *   - order=octant: children ordered per ray octant, H. Ylitie, T. Karras,
- *     S. Laine, "Efficient Incoherent Ray Traversal on GPUs Through
- *     Compressed Wide BVHs", HPG 2017 (s3.2), kept as a permutation per
- *     octant as V. Fuetterling, C. Lojewski, F.-J. Pfreundt, A. Ebert,
- *     "Accelerated Single Ray Tracing for Wide Vector Units", HPG 2017,
- *     keep theirs.
+ *   - the kit's binned SAH build (accel/bvh/build_sah.c): MacDonald and
+ *     Booth, The Visual Computer 6(3), 1990; Wald, IEEE RT 2007 (binning);
+ *     leaf costs in whole packets of 4 and the small-node bin rule as
+ *     Embree's builder (Wald et al., ACM TOG 33(4), 2014, s4.3); subtrees
+ *     built on the harness's threads, the same tree for any thread count
+ *     (accel/bvh/build.c: Wald, IEEE TVCG 2012);
+ *   - split=sbvh: Stich, Friedrich, Dietrich, HPG 2009, s3 (alpha: s3.2),
+ *     accel/bvh/build_sbvh.c, primitives clipped by prims/clip.c;
+ *   - wide nodes and the collapse (accel/bvh/collapse.c): Dammertz, Hanika,
+ *     Keller, EGSR 2008; Ernst, Greiner, IEEE RT 2008; Wald, Benthin,
+ *     Boulos, IEEE RT 2008;
+ *   - robust box tests: Ize, JCGT 2(2), 2013 (fma=off), or one fused
+ *     multiply-add a plane with directed per-ray constants (fma=on,
+ *     accel/bvh/wide_walk.h);
+ *   - order=octant and compress=on: Ylitie, Karras, Laine, HPG 2017,
+ *     s3.2 and s3.1; the per-octant permutation as Fuetterling et al.,
+ *     HPG 2017;
+ *   - tree=embree: Embree's own builder (rtcBuildBVH), a diagnostic that
+ *     splits a gap against Embree into tree and kernel.
  *
- * Parameters (defaults):
- *   width=8       children per node: 2 | 4 | 8. 2: the binary tree's nodes
- *                 re-laid as 64-byte nodes, both children tested together
- *                 (isa=sse42, avx2 and avx512 all run the SSE4.2 kernel
- *                 there: two lanes gain nothing from wider registers).
- *   bins=16       SAH bins per axis, 2..256 (Wald 2007).
- *   smallbins=on  on: a node of n primitives is binned into min(bins,
- *                 4 + n / 20) slots, the rule of Embree's binner (its
- *                 BinMapping), so the many small nodes near the leaves do
- *                 not pay the set-up and sweeps of every bin | off: bins
- *                 for every node. Measured (2026-12-03, 1 thread, two
- *                 fuzzers beside, two rounds): builds 0.73-0.86 of off's
- *                 time on the bunny, Sponza and spd:balls:4:t (one Sponza
- *                 build 1.16), tests and box tests per ray within 4 % (the
- *                 bunny's and balls' fewer, Sponza's 2-4 % more), trace
- *                 time over off's 1.006 in geometric mean over 18 cells.
- *                 split=object only: under split=sbvh (its object splits
- *                 and, tried too, its spatial bins) it cost references
- *                 (bytes per triangle 84 instead of 76 on the bunny, 92
- *                 instead of 87 on Sponza; fewer spatial bins also raised
- *                 Sponza's tests per primary ray from 7.9 to 11.8) for no
- *                 faster build, so sbvh always bins into `bins`.
- *   leafsize=4    the builder's max_leaf: a node of more primitives is
- *                 always split, one of at most this many becomes a leaf
- *                 when no cut is cheaper; 1..32.
- *   travcost=2    the SAH cost of visiting a node over that of one
- *                 primitive test (the kit's cost_traversal), 0.1..100:
- *                 larger makes larger leaves. 2, not the kit's 1: on the
- *                 bunny it cut memory from 143 to 89 bytes a triangle
- *                 (leaves of 2.8 triangles instead of 1.7, packets fuller)
- *                 with trace times within this machine's noise (before
- *                 leaf costs counted whole packets, which brought it to
- *                 67.5).
- *   split=object  object: the binned SAH's object splits | sbvh: also
- *                 spatial splits (build_sbvh.c): a primitive may be in
- *                 several leaves (refs_per_prim > 1, at most 2), the
- *                 counters count a primitive once per leaf that tests it;
- *                 built on the harness's threads as split=object is
- *                 (the same tree for any count).
- *   alpha=1e-5    sbvh: a spatial split is looked for where the object
- *                 split's two boxes overlap by more than alpha times the
- *                 root's surface area, 0..1 (Stich et al. s3.2).
- *   binning=split sbvh: how a reference that straddles spatial bins is
- *                 binned: split (prims/ prim_split_bounds: the triangle
- *                 chopped at each bin plane in float, as Embree bins its
- *                 splits; an estimate) | clip (prim_clip_bounds to every
- *                 slab, exact; 70 % of a Sponza build's time). The split
- *                 taken is clipped exactly either way.
- *   packets=on    on: every leaf whose primitives are all triangles keeps
- *                 them as prims/ triangle packets (prim_tri_pack: 4
- *                 triangles' corners in SoA, 160 bytes) tested by
- *                 prim_intersect_tris / prim_occluded_tris's bodies
- *                 (prims/tri_packet_test.h) inlined into the walk with the
- *                 ray's shear set up once per ray, which answer and count
- *                 exactly as prim_intersect_leaf does over the same ids |
- *                 off: every leaf through its refs.
- *   isa=auto      box kernels: auto (the best this CPU has: avx512 if it
- *                 has AVX-512F and VL, else avx2 with AVX2 and FMA, else
- *                 sse42, else scalar) | scalar (the reference, plain C) |
- *                 sse42 | avx2 | avx512. One this CPU lacks is refused at
- *                 build with one line. auto is settled before the CSV
- *                 writes the parameters (settle_params), so its params
- *                 column names the kernels that ran.
- *   order=distance  closest hit: the children a node's test hits, sorted
- *                 by entry distance (ties by slot) | octant: in the order
- *                 the node keeps for the ray's octant (its children's box
- *                 centres along the octant's diagonal, accel/bvh/wide.h;
- *                 Ylitie, Karras, Laine, HPG 2017, section 3.2), with no
- *                 comparison of distances: every slot written to the stack
- *                 in order, the stack pointer advanced past the hit ones.
- *                 Measured here (2026-12-03, 1 thread, AVX-512, sponza,
- *                 bunny, spd:balls:4:t, primary, diffuse and random rays,
- *                 256x256, 31 repeats, two fuzzers beside): octant's trace
- *                 time over distance's, each paired with Embree, 0.89-1.22,
- *                 geometric mean 1.03 with the AVX-512 push of Fuetterling
- *                 et al. (the permuted children compressed and stored as
- *                 vectors, the stack in three arrays for it), 1.02 with
- *                 this scalar push: no gain beyond this machine's noise.
- *                 The vector push and its stack in arrays are gone, and
- *                 each ordering is compiled as a walk of its own: against
- *                 the walk of c037053 the default one had been 8-10 %
- *                 slower on Sponza's primary rays in four rounds, and is
- *                 2-5 % after, 1.00 in geometric mean over 9 cells (within
- *                 the noise). Distance stays the default. Any-hit queries
- *                 take slot order either way.
- *   minleaf=0     a node of at most this many primitives is always a leaf,
- *                 never split (the kit's min_leaf; Embree's minLeafSize,
- *                 which is 4 for its BVH8Triangle4 build), 0..32.
- *   bigleaf=0     collapse (accel/bvh/collapse.c, wide_merge): an interior
- *                 binary node that would become a wide node becomes one
- *                 leaf of its subtree's primitives instead when they are at
- *                 most bigleaf and the SAH prices that leaf no higher than
- *                 the node's split (travcost the node visit, whole packets
- *                 of 4 the tests). Embree decides its leaves only there, at
- *                 the children of a wide node after it has split the
- *                 largest of them until the node is full (kernels/builders/
- *                 bvh_builder_sah.h), with leaves of up to 7 blocks of 4,
- *                 28; 0 (off)..255.
- *   slots=split   a node's slot order: split (the binary tree's) | size
- *                 (most primitives below first, stable: Embree sorts a
- *                 node's children so "for faster shadow ray traversal"; an
- *                 any-hit walk takes slots in order, a closest-hit one
- *                 where entry distances tie).
- *                 Embree's rules together are minleaf=4, bigleaf=28,
- *                 travcost=4, slots=size (Embree's SAH counts blocks of 4
- *                 and a node visit as one block: 4 triangle tests). On the
- *                 bunny they make Embree's tree to within 0.2 % in nodes
- *                 and leaves (4766 and 19518 against 4772 and 19480, the
- *                 same tests and box tests per ray; tests/test_champion.c
- *                 holds them within 2 %), but not on Sponza: the same node
- *                 and leaf counts, 11-95 % more triangle tests per ray
- *                 than Embree's tree (cause not found). Off by default:
- *                 measured below (README, issue 13's notes).
- *   tree=own      own: the builds above | embree: a diagnostic, Embree's
- *                 own builder (rtcBuildBVH with its BVH8Triangle4 scene
- *                 build's settings, accel/bvh/wide_embree.c) makes the
- *                 8-wide tree and our kernels trace it, so that a gap
- *                 against Embree splits into tree and kernel. width=8 and
- *                 split=object only (refused otherwise); the bins,
- *                 leafsize, minleaf, bigleaf, slots and travcost settings
- *                 do not apply; its build time is Embree's builder's plus
- *                 the copy into our nodes.
- *   fma=auto      the box test's arithmetic (accel/bvh/wide_walk.h).
- *                 off: slab_clip_robust's, per plane the origin
- *                 subtracted and the difference multiplied by the
- *                 reciprocal, the far one scaled by 1 + 2^-21 (Ize 2013) |
- *                 on: one fused multiply-add a plane, plane * m - c, with
- *                 per-ray constants rounded in the directions that keep the
- *                 test conservative without a scale (wide_fused_init; the
- *                 argument is Ize's, the constants are this testbed's) |
- *                 auto: on where the kernels that run have FMA (AVX2,
- *                 AVX-512 at width 4 and 8), off for scalar and SSE4.2.
- *                 fma=on is refused under isa=sse42 and at width=2 (both
- *                 run the SSE4.2 kernel, which has no FMA); the scalar
- *                 reference computes it with fmaf, bit for bit. The hits
- *                 are the same either way (the boxes only steer the walk);
- *                 on's intervals are a little looser (tests per ray up to
- *                 0.8 % more, on Sponza's random rays). Measured
- *                 2026-12-05 (1 thread, AVX-512, Sponza, the bunny,
- *                 spd:balls:4:t x primary, shadow, diffuse, random,
- *                 256x256, 3 processes of each build interleaved, each cell
- *                 paired with Embree): trace time 0.970 of off's in
- *                 geometric mean, 0.89-1.02 per cell; with off's constants
- *                 in fused form (not conservative, for scale) it was 0.964.
- *   compress=off  on: the 8-wide nodes quantised after the build (accel/
- *                 bvh/wide_quantize.c, Ylitie, Karras, Laine, HPG 2017,
- *                 section 3.1: each child plane a byte of power-of-two
- *                 steps above the node's lower corner, rounded outward, so
- *                 a decoded box always contains the exact one), 128 bytes
- *                 a node instead of 256, decoded in every box test
- *                 (widened, converted and multiplied-added before the slab
- *                 test); width=8 only (refused otherwise); a node wider
- *                 than 255 steps of 2^120 (a scene spanning about FLT_MAX)
- *                 is refused with one line. Measured 2026-12-05 (1 thread,
- *                 AVX-512, Sponza, the bunny, spd:balls:4:t x primary,
- *                 shadow, diffuse, random, 256x256, 7 repeats, 2 runs,
- *                 each paired with Embree): 10.6-13.1 bytes a triangle
- *                 fewer (15-17 %; Sponza split=sbvh 87.1 -> 74.0), trace
- *                 time 1.12x compress=off's in geometric mean (1.11x
- *                 under split=sbvh): it pays in memory, not in speed, so
- *                 it stays off.
- *   memcap=4096   MiB: refuse a build whose scratch and nodes would pass it
- *                 (checked before the binary build over its estimate, and
- *                 before the collapse over the exact wide node count).
+ * Pipeline: primitive boxes -> binary tree (object or spatial splits) ->
+ * collapse to width W (bigleaf, slots) -> triangle packets (packets=on) ->
+ * per-octant orders -> quantisation (compress=on). isa=auto and fma=auto
+ * are settled before the CSV writes the parameters (settle_params), so
+ * the params column names what ran. A kernel this CPU lacks, fma=on under
+ * the SSE4.2 kernel, compress or tree=embree at a width other than 8 are
+ * refused with one line.
  *
- * Node sizes and memory layout: accel/bvh/wide.h (BVH2 nodes 64 bytes,
- * BVH4 nodes 128, BVH8 nodes 256, each with its octant orders in its last
- * 2W bytes, which were padding before; compress=on's quantised BVH8 nodes
- * 128, the box test's bytes in the first line; 64-byte aligned node array,
- * then 4 bytes of primitive id per primitive in leaf order, then with
- * packets=on 160 bytes per packet, ceil(count / 4) per all-triangle
- * leaf). memory() is this object (about 80 bytes) plus nodes, refs and
- * packets. Per thread: the
- * traversal stack, 12 bytes an entry, (W - 1)(depth + 1) + 1 entries and
- * WIDE_STACK_SLACK (8) more.
- * Build scratch, freed before build() returns: primitive boxes (24 bytes
- * each), the kit's binary tree (32 bytes a node, 2n - 1 at most) and its
- * builder's centroids and tasks.
+ * Memory (accel/bvh/wide.h): nodes of 64 (W=2), 128 (W=4), 256 (W=8) or
+ * 128 (compressed) bytes, 64-byte aligned, root always interior; refs, 4
+ * bytes a reference in leaf order; packets, 160 bytes each, ceil(count/4)
+ * per all-triangle leaf. memory() = the object + nodes + refs + packets.
+ * Per thread: the stack, 12 bytes an entry, (W - 1)(depth + 1) + 1 + 8
+ * entries, which no walk can overflow. Build scratch is freed in build().
  *
- * Counters (accel.h): box_tests = child boxes tested (the used slots of
- * every node visited; unused slots hold empty boxes that the SIMD kernels
- * test for free and nobody counts); steps = nodes visited plus leaves
- * tested; prim_tests and prim_hits by prims/ (its packet test or one
- * prim_*_leaf call a leaf). Statistics: nodes (wide nodes), leaves, max_depth, avg_leaf_prims,
- * refs_per_prim, avg_children (used slots per node).
+ * Invariants: an unused slot holds the empty box, which every ray misses;
+ * every kernel computes the scalar kernel's distances bit for bit, so all
+ * walk the same way; a box the exact ray meets is never rejected by
+ * rounding (also a quantised one, rounded outward); with split=sbvh a
+ * primitive may be in two leaves and is counted once per leaf that tests
+ * it.
  *
- * Not yet: Stich et al.'s reference unsplitting. */
+ * Counters: box_tests = used child slots of every node visited; steps =
+ * nodes visited plus leaves tested; prim_tests and prim_hits by prims/.
+ * Not implemented: Stich et al.'s reference unsplitting. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

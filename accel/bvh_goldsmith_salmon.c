@@ -1,87 +1,41 @@
 /* bvh_goldsmith_salmon.c: `bvh-gs`, Goldsmith and Salmon's automatic
- * hierarchy with its cost estimate.
+ * hierarchy with its cost estimate. Reference: docs/accels/goldsmith-salmon.md.
  *
  * Papers:
  *   J. Goldsmith, J. Salmon, "Automatic Creation of Object Hierarchies for
- *     Ray Tracing", IEEE CG&A 7(5), 1987, as the survey of J. Arvo and
- *     D. Kirk, "A Survey of Ray Tracing Acceleration Techniques" (1989),
- *     describes it: s4.2 (the conditional probability of hitting an inner
- *     volume as the ratio of surface areas, eq. (2); the hierarchy's cost,
- *     eq. (3)), s4.3 (insertion one object at a time into the subtree of
- *     least surface-area increase, every minimal subtree searched on a tie;
- *     the insertion order: the modeller's, sorted along a line, or random,
- *     "the best trees were discovered by trying a number of different
- *     random shuffles"), s4 and figures 3 and 4 (the traversal: children
- *     of a node in turn, boxes before their contents, a box that starts
- *     beyond the closest hit so far not opened).
- *   The paper itself was not at hand. The builder's three cases and their
- *   costs (accel/bvh/build_gs.c has them with the sources) come from
- *   Haines' retelling in Ray Tracing News, a course page summarising the
- *   paper and Ericson, Real-Time Collision Detection s6.2.3.1, found with
- *   the `search` tool; none of them, nor the survey, bounds the branching
- *   factor (build_gs.c: the S(A) k(A) term of the cost is what keeps nodes
- *   narrow), hence maxchildren=0 by default.
+ *     Ray Tracing", IEEE CG&A 7(5), 1987, as the Arvo-Kirk survey (1989)
+ *     describes it: s4.2 (eq. (2) area ratios, eq. (3) the tree's cost),
+ *     s4.3 (insertion by least surface-area increase, ties searched;
+ *     given, sorted or shuffled insertion orders), s4.1 and figures 3-4
+ *     (the traversal). The builder's placements and their costs are in
+ *     accel/bvh/build_gs.c with the retellings they come from.
  *
- * Parameters (defaults):
- *   order=shuffle   insertion order: given (the scene's own, the
- *                   modeller's: SPD's generation order, a mesh file's face
- *                   order) | sorted (by centroid along the longest axis of
- *                   the scene box: the survey's "sorting along a line",
- *                   which it reports "usually proved detrimental"; one
- *                   axis, not a space-filling curve, because that is the
- *                   alternative the paper tried) | shuffle (a seeded
- *                   Fisher-Yates shuffle, accel/common/shuffle.h; the
- *                   default, as the paper found its best trees that way).
- *   shuffles=1      order=shuffle only: build K trees from K shuffles and
- *                   keep the one of least estimated cost (eq. (3), box plus
- *                   primitive tests), 1..1024. Shuffle k is seeded with the
- *                   k-th number of splitmix64 from --seed (accel_params.seed,
- *                   default 1), so K trees include the one K = 1 builds and
- *                   K shuffles never give a costlier tree than one. K > 1
- *                   with another order is refused (it would build K equal
- *                   trees).
- *   maxchildren=0   the most children a node may have: 0 = no bound (the
- *                   paper's, above) | 2..65536 (2 makes it binary). A full
- *                   node only loses the "one more child" placement.
- *   traverse=stored stored: children in stored order (survey fig. 3),
- *                   each box tested against the interval as it is when its
- *                   turn comes (fig. 4) | nearest: a node's primitives
- *                   first, then its boxes opened nearest entry first
- *                   (accel/bvh/nary.h).
- *   memcap=4096     MiB: the builder's bytes (accel/bvh/nary.h
- *                   nary_build_gs_bytes: 2n nodes of builder, layout and
- *                   walk, plus the kept tree while another is built and the
- *                   order) are estimated before building; more is refused.
+ * This file: the insertion orders (given | sorted along the longest axis |
+ * seeded Fisher-Yates shuffles, K of them keeping the tree of least eq. (3)
+ * cost; shuffle k is seeded with the k-th splitmix64 number from --seed, so
+ * K trees include the one K = 1 builds), the accel_ops table and the
+ * statistics. Building is accel/bvh/build_gs.c, the layout, cost model and
+ * traversals accel/bvh/nary.h.
  *
- * Node: nary_node, 32 bytes (accel/bvh/nary.h): box, then the first child
- * and the child count of an interior node, or the primitive id of a leaf.
- * Memory layout (memory() counts it): the gs_accel struct and the tree's
- * nodes, breadth-first, each node's children one contiguous run, 32 bytes
- * per node, primitives + interior nodes of them (every primitive is a
- * leaf of its own, as in the paper). Per thread (context, not in
- * memory()): the traversal stack, 8 bytes x stack_need (nary.h).
+ * Node: nary_node, 32 bytes: box, then first child and child count
+ * (interior) or primitive id (leaf); breadth-first, each node's children
+ * one contiguous run; every primitive a leaf of its own. memory() = the
+ * struct + 32 bytes a node. Per thread: the stack, 8 bytes x stack_need.
  *
- * Statistics: nodes (interior), leaves, max_depth, avg_leaf_prims (1),
- * refs_per_prim (1), avg_children, and eq. (3)'s prediction per ray that
- * hits the root: predicted_box_tests_per_ray (the root's box, then every
- * box child of every node opened) and predicted_tests_per_ray (primitive
- * tests). The CSV writes these two beside the measured counters. The model
- * assumes random lines that all hit the root box (survey s4.2: "all rays
- * which hit A are 'equally likely'"); issue 11 records Goldsmith's remark
- * that it is made for eye rays with the root inside the view volume. Rays
- * that miss the root, or that all start at one point (eye rays, shadow
- * rays to one light), are where it parts from the measurement; random
- * lines through a tree of tiny spheres meet it (within 1 % measured, 3 %
- * asserted: tests/test_bvh_gs.c, model).
+ * Invariants: maxchildren=0 leaves the branching factor unbounded (the
+ * S(A) k(A) term of the cost keeps nodes narrow); a bound only forbids the
+ * "one more child" placement at a full node. K > 1 shuffles with another
+ * order is refused. The builder's bytes are estimated before building and
+ * refused past memcap.
  *
- * Counters (nary.h): box_tests, steps, prim_tests and prim_hits through
- * prims/; intersect_fast/occluded_fast are the same traversals compiled
- * without them.
+ * Statistics: nodes, leaves, max_depth, avg_leaf_prims (1), refs_per_prim
+ * (1), avg_children, and eq. (3)'s prediction per ray that hits the root,
+ * predicted_box_tests_per_ray and predicted_tests_per_ray (random lines
+ * that hit the root box; eye and shadow rays from one point depart from
+ * it). Counters (nary.h): box_tests, steps; prims/ counts the rest.
  *
- * Not implemented: the paper's other bounding volumes (spheres, as it
- * could use; boxes only here), its own cost weights for boxes and objects
- * (every test costs 1, as eq. (3) with equal external costs), parallel
- * builds of the K shuffles. */
+ * Not implemented: bounding spheres, the paper's own test weights (every
+ * test costs 1), parallel builds of the K shuffles. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,92 +1,48 @@
 /* cgal_aabb.cpp: CGAL's AABB_tree (CGAL 5.5, Debian's libcgal-dev) as a peer.
+ * Reference: docs/accels/peers.md.
  *
  * Paper: P. Alliez, S. Tayeb, C. Wormser, "3D Fast Intersection and Distance
  * Computation (AABB Tree)", CGAL User and Reference Manual, AABB Tree
- * package: section "Interface" (first_intersection() for ray shooting,
- * do_intersect()), "Trees of Custom Primitives" (the AABBPrimitive(With
- * SharedData) concepts used below) and "Implementation Details".
+ * package: "Interface" (first_intersection(), do_intersect()), "Trees of
+ * Custom Primitives" (AABBPrimitiveWithSharedData) and "Implementation
+ * Details".
  *
- * What CGAL 5.5 really builds (AABB_tree.h expand(), AABB_traits.h
- * Split_primitives): a binary tree, top down, ONE primitive per leaf. At
- * each node the box is the union of its primitives' bounding boxes; the
- * primitives are partitioned by std::nth_element on their reference point
- * (a triangle's first vertex) along the longest axis of that box, and split
- * into two halves of equal count (floor(n/2) left): an object-median split,
- * no SAH, no spatial median. A node whose children are leaves points at the
- * primitives directly; n primitives make n - 1 nodes.
- * Queries: first_intersection(Ray_3) (internal/AABB_tree/AABB_ray_
- * intersection.h) is best-first: a heap of nodes keyed by the slab-test
- * entry distance (Traits::Intersection_distance), every leaf primitive
- * tested with Traits::Intersection (no box test for leaves), ray parameters
- * compared on the dominant axis of the ray's vector; it stops when the
- * heap's top is not nearer than the best hit. do_intersect(Segment_3|Ray_3)
- * is depth-first, left child first, stopping at the first
- * Traits::Do_intersect(query, primitive) that says yes; node boxes are
- * tested with Do_intersect(query, Bbox_3) (the kernel's exact-predicate or
- * double box test).
+ * What CGAL 5.5 builds (AABB_tree.h expand(), AABB_traits.h
+ * Split_primitives): a binary tree, top down, one primitive per leaf, split
+ * by std::nth_element on the reference point along the longest axis of the
+ * node's box into halves of equal count (object median, no SAH); n
+ * primitives make n - 1 nodes. first_intersection(Ray_3) is best-first by
+ * slab entry distance; do_intersect is depth-first, left child first,
+ * ending at the first primitive that says yes.
  *
- * Primitives, one tree for all kinds (a mixed tree):
- *   triangles  a kernel Triangle_3 (vertices converted float -> double,
- *              exact); zero-area ones (prims' tri_degenerate, or the
- *              kernel's is_degenerate) are left out
- *   polygons   each of their ear-clipping triangles (prims_t.poly_tris) as
- *              a Triangle_3 whose id is the polygon; degenerate polygons
- *              and zero-area ears are left out
- *   spheres,   a custom primitive whose datum is its bounding box
- *   cones      (prims' bounds) and whose reference point is the box centre;
- *              the traits' Intersection / Do_intersect call prims/
- *              (prim_intersect / prim_occluded) with the float ray. CGAL's
- *              functors see only (query, primitive), so the float ray rides
- *              in a thread_local pointer set by each query (queries run on
- *              several threads; CGAL runs a query on its caller's thread).
- *              The intersection is reported to CGAL as the point
- *              org + t*dir, from which CGAL (and we) read t back.
- * The traits class derives from CGAL::AABB_traits and shadows the three
- * names the tree uses for this: Intersection_and_primitive_id,
- * Intersection (+ intersection_object) and Do_intersect (+
- * do_intersect_object); node boxes, the build and the ray/box distance are
- * CGAL's own.
+ * Primitives, one mixed tree: triangles as kernel Triangle_3 (float to
+ * double, exact; zero-area ones left out); polygons as their ear triangles
+ * carrying the polygon's id; spheres and cones as a custom primitive whose
+ * datum is its bounding box (reference point its centre) and whose
+ * Intersection / Do_intersect call prims/ with the float ray. CGAL's
+ * functors see only (query, primitive), so the float ray rides in a
+ * thread_local pointer set by each query (CGAL runs a query on its
+ * caller's thread). The traits class derives from CGAL::AABB_traits and
+ * shadows only Intersection_and_primitive_id, Intersection and
+ * Do_intersect; boxes, build and ray/box distance are CGAL's.
  *
- * Rays (prims/ray.h): closest hit = first_intersection of the Ray_3 from
- * org + tnear*dir (org when tnear == 0) along dir (scaled by a power of
- * two to a largest component in [1, 2), see ray_vector); t = dot(p - org, dir) /
- * dot(dir, dir) of the intersection point p (a Segment_3, for a ray in a
- * triangle's plane: its endpoint nearest the origin); a first intersection
- * with t >= tfar is a miss (the whole ray is searched, then clipped). Any
- * hit = do_intersect of the Segment_3 org+tnear*dir .. org+tfar*dir (a Ray_3
- * when tfar is infinite; a segment whose ends coincide in doubles is asked
- * as a closest hit, since CGAL refuses a degenerate segment); the segment
- * is closed, prims/ is half-open: a hit
- * exactly at tfar is float noise either way. u = v = 0.
- * first_intersection is not exact (CGAL issue #1822, PR #3766: candidate
- * points are constructed, in doubles even with epick); its mismatches are
- * reported by verify like anyone's.
+ * Rays: closest hit = first_intersection of the Ray_3 from org + tnear dir
+ * along dir (scaled by a power of two to a largest component in [1, 2)),
+ * t = dot(p - org, dir) / dot(dir, dir) of the point p (for a segment, its
+ * end nearest the origin), t >= tfar a miss. Any hit = do_intersect of the
+ * closed Segment_3 tnear..tfar (a Ray_3 when tfar is infinite; a segment
+ * degenerate in doubles is asked as a closest hit). u = v = 0.
+ * first_intersection is not exact (CGAL's tracker, #1822 and pull request
+ * #3766: candidate points are constructed in doubles); verify reports its
+ * mismatches like anyone's.
  *
- * Parameters (default first):
- *   kernel = simple | epick   simple: CGAL::Simple_cartesian<double> (what
- *                             most users run; every predicate in doubles);
- *                             epick: Exact_predicates_inexact_constructions_
- *                             kernel (filtered exact predicates, double
- *                             constructions)
+ * Memory (g++ 12, CGAL 5.5, both kernels; static_asserts below): primitives
+ * 8 bytes (scene id, slot), capacity counted (push_back growth); nodes 64
+ * bytes (Bbox_3 + two pointers), n - 1 reserved exactly; Triangle_3 72
+ * bytes each. Spheres and cones hold only their primitive.
  *
- * Memory layout (sizes measured with g++ 12 / CGAL 5.5, the same for both
- * kernels; static_asserts below keep them honest):
- *   primitives  std::vector<Prim> inside the tree, 8 bytes each: scene id
- *               (uint32) and slot (uint32: index into tris, or NOT_TRI for
- *               a sphere or cone). Filled by push_back (AABB_tree has no
- *               reserve), so its capacity is the next power of two (libstdc++
- *               doubles): memory() counts the capacity.
- *   nodes       std::vector<AABB_node>, n - 1 of them (CGAL reserves exactly),
- *               64 bytes each: Bbox_3 (6 doubles, 48) + two pointers (to
- *               child nodes, or straight to the child primitives).
- *   tris        std::vector<Triangle_3> (reserved exactly), 72 bytes each (3
- *               double points): the scene's triangles and polygon ears,
- *               which CGAL needs in its own number type.
- *   Spheres and cones hold nothing beyond their 8-byte primitive: bounds
- *   and geometry are read from the scene's store.
- * Counters: CGAL's work is not observable (ACCEL_OPAQUE).
- * Context: none (NULL); the tree is built completely in build(), never lazily
- * (tree.build() is called there), so concurrent queries only read it. */
+ * Counters: not observable (ACCEL_OPAQUE). No context: the tree is built
+ * completely in build() (tree.build()), so concurrent queries only read. */
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

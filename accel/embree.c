@@ -1,4 +1,5 @@
 /* embree.c: Intel Embree 3 (Debian's libembree-dev) as reference and peer.
+ * Reference: docs/accels/peers.md.
  *
  * Paper: I. Wald, S. Woop, C. Benthin, G. S. Johnson, M. Ernst, "Embree: A
  * Kernel Framework for Efficient CPU Ray Tracing", ACM TOG 33(4), 2014

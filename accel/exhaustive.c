@@ -1,4 +1,5 @@
 /* exhaustive.c: no acceleration at all; every ray tests every primitive.
+ * Reference: docs/accels/exhaustive.md.
  *
  * Paper: the baseline every survey measures against (Arvo and Kirk, "A
  * Survey of Ray Tracing Acceleration Techniques", 1989, section 1: the

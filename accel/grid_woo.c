@@ -1,190 +1,53 @@
 /* grid_woo.c: uniform grids, raw (`grid`) and with Woo's optimised
- * Snyder-Barr ray boxes (`grid-raybox`).
+ * Snyder-Barr ray boxes (`grid-raybox`). Reference: docs/accels/grids.md.
  *
  * Papers:
  *   A. Woo, "Ray Tracing Polygons using Spatial Subdivision", Graphics
- *     Interface 1992 (sections cited per switch below).
- *   J. Amanatides, A. Woo, "A Fast Voxel Traversal Algorithm for Ray
- *     Tracing", Eurographics 1987 (the floating-point 3DDDA; Woo s3).
- *   J. Snyder, A. Barr, "Ray Tracing Complex Models Containing Surface
- *     Tessellations", SIGGRAPH 1987 (ray bounding boxes; Woo s3).
- *   B. Arnaldi, T. Priol, K. Bouatouch, "A New Space Subdivision Method for
- *     Ray Tracing CSG Modelled Scenes", 1987 (mailboxes), and the survey
- *     (Arvo-Kirk 1989) s5.2-5.3: the 3DDDA, mailboxes, and the rule that a
- *     walk may end only when the hit lies in the current voxel.
+ *     Interface 1992: s3 ray boxes, s4 [Woo90] box check, s5.1-5.3
+ *     move-to-front and ray ids, s6 dynamic box and per-voxel box B, s6.2
+ *     beta, s7.2 eye at the origin, s7.3 t clipping, s8.2 resolution.
+ *   J. Amanatides, A. Woo, Eurographics 1987: the floating-point 3DDDA.
+ *   J. Snyder, A. Barr, SIGGRAPH 1987: ray bounding boxes.
+ *   Arnaldi, Priol, Bouatouch 1987 (mailboxes) and the Arvo-Kirk survey
+ *     (1989) s5.2-5.3: a walk may end only on a hit inside the current voxel.
+ *   Havran, Sixta, RTN 12(1) 1999: res=cubic:D.
  *
- * Both accelerators are this one file and share every line of code and the
- * parameter keys; they differ in defaults and in one flag:
- *   grid         raw grid: mailbox on, every Woo switch and the ray box off.
- *                Thread-safe (no ACCEL_MUTATES). If the user turns mtf on,
- *                each tracing context gets its OWN copy of the candidate-id
- *                array and reorders that (list bytes extra, not in
- *                memory()); the shared grid is never written. With mtf or
- *                rayid on, though, a ray's counters depend on the rays its
- *                thread traced before, so order_dependent() says so and the
- *                harness traces such a grid on one thread (CSV serial=1).
- *   grid-raybox  "Woo default": ray box on with every switch Woo's final
- *                implementation keeps. ACCEL_MUTATES: move-to-front
- *                reorders the SHARED lists as in Woo's linked lists, so the
- *                harness traces it on one thread (even with mtf=off), and
- *                reset() sorts every list back to its post-build order.
- * The two ops tables come from one macro (GRID_OPS, at the end).
+ * Both accelerators share every line of code and the parameter keys (the
+ * table is GRID_PARAM_TABLE, the method tables GRID_OPS at the end); they
+ * differ in defaults and one flag:
+ *   grid         every Woo switch off. Thread-safe: with mtf on, each
+ *                context reorders its own copy of the id array; with mtf or
+ *                rayid on, order_dependent() makes the harness trace it on
+ *                one thread.
+ *   grid-raybox  ray box and every switch Woo keeps. ACCEL_MUTATES:
+ *                move-to-front reorders the SHARED lists; reset() sorts
+ *                them back to their post-build (id) order.
  *
- * Parameters (grid default / grid-raybox default):
- *   res=auto|cubic:D|NxMxK cubic:20 / auto. auto: Woo s8.2, m = n^(1/3) *
- *                    density, X = s_x / maxS * m (Y, Z alike), rounded,
- *                    each >= 1, at most GRID_AUTO_MAX
- *                    (grid_auto_resolution()). cubic:D: cubic voxels, about
- *                    D x n of them (Havran and Sixta, RTN 12(1) 1999;
- *                    grid_cubic_resolution()). grid's default is cubic:20
- *                    because a benchmark said so (scripts/bench_subdivision.sh,
- *                    results/subdivision-20261202-062417: faster than res=auto
- *                    in 56 of 57 cells, 2.7x in geometric mean, up to 30x on
- *                    the SPD scenes whose flat boxes Woo's rule cuts into
- *                    few layers; res=auto 5% faster on the motorbike's primary
- *                    rays), at ~12x the grid's memory;
- *                    grid-raybox keeps Woo's rule, whose implementation it
- *                    reproduces.
- *                    n counts coincident primitives once (copies of a
- *                    triangle: common/coincident.h), so a mesh of repeated
- *                    faces gets the grid of its distinct ones, each cell
- *                    listing every copy.
- *                    Every mode is then capped so that no cell is narrower
- *                    than float_res_min_cell() (common/float_res.h: 4 pads,
- *                    at least 64 float steps of the box's coordinates): far
- *                    from the origin the slack would otherwise put each
- *                    primitive in every nearby cell (res_x..z say what ran).
- *   density=1.0      multiplies m (auto only).
- *   insert=exact|bbox    exact / exact: a primitive goes in every voxel its
- *                    surface touches (prim_overlaps_box) or every voxel its
- *                    bounds touch. Voxel boxes are padded by `pad` (below)
- *                    for insertion, so touching (a square lying exactly on
- *                    a voxel plane) puts it in both voxels.
- *   mailbox=on|off   on / on: Arnaldi mailboxes (survey s5.3): a per-thread
- *                    array of the last ray id that tested each primitive
- *                    (accel/common/mailbox.h, in accel_ctx, 4 bytes per
- *                    primitive per thread); a
- *                    re-test by the same ray is skipped and counted in
- *                    mailbox_hits. The "stored result" of the survey is the
- *                    running closest hit itself (see the walk below).
- *   raybox=on|off    off / on: Snyder-Barr ray box (Woo s3): the box of the
- *                    ray segment inside the voxel; a candidate whose bounds
- *                    do not cross it is skipped (one box test each).
- *   mtf=off|hit|almost   off / almost: Woo s5.1-5.2 move-to-front of the
- *                    voxel's candidate list, closest-hit rays only (Woo:
- *                    not for shadow rays). hit: a primitive that returns a
- *                    (closer) hit moves to the front. almost: also an
- *                    "almost hit", defined from prim_bounds only as Woo's
- *                    "passed the [Woo90] bounding-box check but failed the
- *                    inside test": prim_intersect found no closer hit AND
- *                    the ray's segment [t1, min(t2, tHit)] in the voxel
- *                    passes through the primitive's bounding box (slab
- *                    test; this is exactly the woo90 pre-test below, so
- *                    with woo90=on it costs nothing, else one box test).
- *                    Array lists: the entry is moved to the front and the
- *                    ones before it shift back one (Woo's linked-list move).
- *   dynbox=on|off    off / on: Woo s6: once a hit tHit is known the ray
- *                    box's far end is min(t2, tHit) (recomputed at once).
- *   voxbox=on|off    off / on: Woo s6: per occupied cell a box B = union of
- *                    its candidates' bounds clipped to the voxel. Unless B
- *                    is the whole voxel (Woo: "only if B is smaller than the
- *                    voxel"), the ray is slab-tested against B first (one
- *                    box test): a miss skips the voxel, a hit at [t1, t2]
- *                    narrows the voxel's range (ray box, tclip, woo90).
- *   beta=0.75        0 / 0.75: Woo s6.2: skip the crossing tests in a voxel
- *                    while t2 - t1 > beta * voxel diagonal (in t units:
- *                    divided by |dir|); they resume when dynbox shrinks the
- *                    box below that. beta <= 0 disables the rule (always
- *                    test). Only meaningful with raybox=on.
- *   eyeorigin=on|off off / off: Woo s7.2 translates the database so the eye
- *                    is at (0,0,0). prims/ owns the geometry, so the plane
- *                    numerator cannot be changed; what is implemented is the
- *                    ray-box part of it: the grid keeps a copy of every
- *                    primitive's bounds translated by -camera.from (24
- *                    bytes per primitive), and for rays whose origin equals
- *                    camera.from bit for bit (primary rays) the ray box is
- *                    built as t*D instead of O + t*D (saves 6 adds per box,
- *                    per voxel and per dynbox update) and crossed against
- *                    the translated bounds. Other rays are unchanged. Needs
- *                    raybox=on to do anything.
- *   tclip=on|off     off / on: Woo s7.3: the primitive tests of a voxel get
- *                    tnear = max(ray tnear, t1 - slack) instead of the
- *                    ray's own tnear: hits before the voxel (or before B)
- *                    are rejected inside prims/ (a hit there would lie in an
- *                    earlier voxel, where the primitive was already tested).
- *                    Here the running tHit already holds every earlier hit,
- *                    so tclip changes no answer and no counter (the test
- *                    still runs and counts); it is Woo's step (2) bound,
- *                    measurable only as time.
- *   rayid=off|twopass  off / off: Woo s5.3: two passes over the voxel's list,
- *                    first the primitives whose last-tested ray id (the
- *                    mailbox array; allocated also when mailbox=off) is
- *                    within RAYID_WINDOW = 64 of the current ray's id, then
- *                    the rest. Woo removed it; it is here to measure.
- *   woo90=on|off     off / on: Woo s4 ([Woo90] hit point vs bounding box
- *                    before the inside test). The inside test is inside
- *                    prims/, so it maps to: before prim_intersect, slab-test
- *                    the ray segment [t1, min(t2, tHit)] of the voxel
- *                    against the primitive's bounds (one box test); skip
- *                    the primitive on a miss. It is the exact form of "the
- *                    plane hit point lies in the box" for any primitive.
- *   memcap=4096      MiB: refuse (before allocating them) cell arrays plus
- *                    id lists larger than this (accel/common/memcap.h).
+ * Memory (memory() counts it; ncells = X*Y*Z, cell c = i + X*(j + Y*k)):
+ * CSR start[ncells + 1] and ids[nrefs] (uint32), the B boxes and a
+ * whole-voxel byte per cell with voxbox=on, eye-relative bounds (24 bytes a
+ * primitive) with eyeorigin=on, and X+Y+Z+3 plane floats. Per thread: the
+ * mailbox stamps (4 bytes a primitive) and, for grid with mtf, its own ids.
  *
- * Memory layout (memory() counts all of it; ncells = X*Y*Z):
- *   start[ncells + 1]  uint32: CSR offsets; cell c's candidates are
- *                      ids[start[c] .. start[c+1]); cell c = i + X*(j + Y*k).
- *   ids[nrefs]         uint32 primitive ids, per cell in id order at build
- *                      (move-to-front reorders them in place).
- *   vbox[ncells]       box3 (24 bytes) B boxes, and vfull[ncells] (1 byte:
- *                      B is the whole voxel): only when voxbox=on.
- *   relb[count]        box3 eye-translated primitive bounds: eyeorigin=on.
- *   planes             (X + Y + Z + 3) floats: the voxel planes; traversal
- *                      and insertion use the same floats.
- *   Total = 4(ncells + 1) + 4 nrefs [+ 25 ncells] [+ 24 count] + planes.
- *   Per thread (context, not in memory()): 4 bytes per primitive for the
- *   mailbox / ray-id stamps; 4 nrefs for `grid` with mtf on.
+ * Invariants of the walk:
+ *   - the next plane's t is (plane - org) * (1/dir) from the stored plane,
+ *     never accumulated, so each voxel's [tMin, tMax] is exact to an ulp
+ *     and insertion and traversal see the same planes;
+ *   - every candidate is tested over [tnear, tHit), so the running hit is
+ *     the survey's stored mailbox result, and the walk ends at the first
+ *     voxel whose tMax >= tHit: a hit is final only in its own voxel;
+ *   - a primitive within pad (about 16 float ulps at the scene's scale) of
+ *     a plane is listed on both sides, so stopping one voxel early on a hit
+ *     at a plane misses nothing;
+ *   - culling (ray box, B, woo90) never stamps the mailbox: only a tested
+ *     primitive is marked;
+ *   - any-hit queries stop at the first occluder and never move lists.
  *
- * The walk (Amanatides-Woo 3DDDA in float; the next plane's t is computed
- * from the stored plane each step, (plane - org) * (1/dir), rather than
- * accumulated, so every voxel's [tMin, tMax] is exact to an ulp):
- *   - the ray is clipped to the grid box (slab test, one box test) and
- *     starts at org + max(tnear, tenter) * dir; dir components of 0 give
- *     an infinite next-plane t and never step.
- *   - closest hit: every candidate is tested over [tnear, tHit) (tnear
- *     raised by tclip), so the running hit is the closest of everything
- *     tested so far: the survey's stored mailbox result. The walk ends at
- *     the first voxel whose tMax >= tHit, i.e. a hit is only ever accepted
- *     as final in the voxel that contains it; one beyond the voxel keeps
- *     the walk going (survey s5.3, Woo s6 footnote). Float: the stop test
- *     is exact (tHit <= tMax); a hit within an ulp of a plane may stop one
- *     voxel early, but every primitive within `pad` of a plane is in both
- *     voxels, so nothing closer can be missed by more than rounding.
- *   - any hit: stops at the first prim_occluded.
- *   - culling (ray box, voxbox, woo90) never stamps the mailbox: only a
- *     primitive actually tested is marked, so a primitive skipped in one
- *     voxel is tested in the voxel where its hit lies.
- * Slack: pad = 2e-6 * max|box coordinate| + 1e-6 * box diagonal, plus
- * 1e-6 * max|ray origin| per ray: the voxel boxes for insertion, B, the
- * ray boxes and the woo90 bounds are grown by it (about 16 float ulps at
- * the scene's scale); tclip's t slack is that over max|dir component|.
- * Empty scenes: no lists, every ray misses. Flat scenes: a zero-extent axis
- * gets 1 cell (auto) and its box is padded by 1e-3 of the largest extent.
- *
- * Counters: box_tests = 1 grid clip per ray + voxbox tests + crossing tests
- * + woo90 and almost-hit slab tests; steps = voxels entered; empty_leaves
- * = voxels entered with no candidates; mailbox_hits = skipped re-tests.
- * intersect_fast/occluded_fast are the same walk compiled without them.
- * Slab tests (grid clip, B, woo90) are accel/common/slab.h's slab_clip.
- * Statistics: nodes = cells, leaves = non-empty cells, empty_leaves,
- * avg_leaf_prims (list entries per non-empty cell), refs_per_prim, res_x,
- * res_y, res_z.
- *
- * Not implemented: Woo s6.3 (multiple ray boxes per voxel, which he left as
- * an idea), s7.1 (reflection-ray numerator reuse: he dropped it, and it
- * needs the plane inside prims/), the s7.2 plane-numerator saving itself
- * (prims/ owns the plane test), step (2)/(3) splitting inside the
- * primitive test. Building is single-threaded. */
+ * Counters: box_tests = grid clip + B + crossing + woo90/almost-hit slab
+ * tests; steps = voxels entered; empty_leaves; mailbox_hits.
+ * intersect_fast/occluded_fast are the same walk without counters.
+ * Not implemented: Woo s6.3, s7.1, the s7.2 plane-numerator saving (prims/
+ * owns the plane test). Building is single-threaded. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,201 +1,53 @@
 /* lightbuf_haines_greenberg.c: `lightbuf`, Haines and Greenberg's light
- * buffer: shadow rays only.
+ * buffer: shadow rays only. Reference: docs/accels/directional.md.
  *
  * Paper: E. A. Haines, D. P. Greenberg, "The Light Buffer: A Shadow-Testing
- * Accelerator", IEEE Computer Graphics and Applications 6(9), 6-16,
- * September 1986, as the survey of J. Arvo and D. Kirk, "A Survey of Ray
- * Tracing Acceleration Techniques" (1989), describes it in s6.1 (the
- * direction cube, figure 19's mapping: accel/common/dircube.h) and s6.2:
- *   - one direction cube per point light, res x res cells on each face;
- *   - every primitive projected onto the six faces and added to the list
- *     of every cell its projection partly or wholly covers; lists sorted by
- *     depth (distance from the light);
- *   - a shadow query reads the cell of the direction from the light to the
- *     point and tests the list in depth order until an occluder is found or
- *     the next candidate starts beyond the point;
- *   - the simplifications of s6.2, each a switch (below).
+ * Accelerator", IEEE CG&A 6(9), 1986, as the Arvo-Kirk survey (1989)
+ * describes it in s6.1 (the direction cube, figure 19: common/dircube.h)
+ * and s6.2: a direction cube of res x res cells a face per point light;
+ * each primitive listed in every cell its projection covers, lists sorted
+ * by depth from the light; a shadow query reads the cell of its direction
+ * and tests in depth order until an occluder or a candidate beyond the
+ * point; s6.2's three simplifications as switches (cull, single, fullocc),
+ * each implemented only in a form proven sound (the page says how).
  *
- * Projection (build). Everything is done in double, relative to the
- * light, with a margin M in u-v units (M = min(1/8, max(cell side / 16,
- * 2^-10)), cell side 2 / res): a primitive goes in every cell whose square
- * GROWN BY M on every side (also past the face's edge, into the
- * neighbouring face's directions) meets its projection. Triangles and
- * polygons (through their ear triangles, prims/) exactly: each triangle is
- * clipped (Sutherland-Hodgman) against the face's pyramid |u|, |v| <= 1 + M,
- * projected (u = x / z, v = y / z) and rasterised conservatively: for
- * every row of cells the u-range of the convex projection within the
- * row's grown v-strip, every cell whose grown u-range meets it. Spheres
- * and cones through a polyhedral hull: the six faces of their bounding box
- * (prim_bounds; a cone's box is that of its end discs, which holds it),
- * whose projections cover the box's. A clipped point that would not lie in
- * front of the light (possible only for a primitive through the light,
- * which never gets here) marks the whole face.
+ * Build: in double, relative to the light, with a u-v margin M
+ * (min(1/8, max(cell side / 16, 2^-10))): a primitive is in every cell
+ * whose square grown by M meets its projection. Triangles and polygon ears
+ * are clipped (Sutherland-Hodgman) to |u|, |v| <= 1 + M and rasterised
+ * conservatively row by row; spheres and cones through their bounding
+ * box's faces. A primitive within rho (2^-8 of the light's distance to
+ * the scene box's far corner) goes to the light's NEAR LIST, read by every
+ * query of that light, so cells hold only primitives with real depths.
+ * Depths are lower bounds of the distance from the light, rounded down.
  *
- * The light's own neighbourhood. A primitive whose distance from the
- * light is at most rho (rho = 2^-8 times the light's distance to the far
- * corner of the scene box) is not projected (near the light, and through
- * it, projection is ill-defined) but kept in the light's NEAR LIST, which
- * every query of that light reads (as if it were in every cell). So the
- * cells hold only primitives farther than rho, and their depths are real.
+ * Query invariants (Ps = O + tnear D, Pe = O + tfar D):
+ *   - only a shadow ray of a light whose Pe is within rho / 4096 of it is
+ *     answered by the buffer; every other any-hit ray goes to the FALLBACK,
+ *     the kit's binned-SAH BVH (exact, counted as the bvh's work);
+ *   - the segment lies within max(|Ps - L|, e) of L: a deeper candidate
+ *     cannot touch it (the stopping rule);
+ *   - |Ps - L| <= rho: the near list alone; else the cell of Ps - L, whose
+ *     M-grown square holds every direction of the segment's part beyond
+ *     rho unless 8 e / rho > M (then the fallback);
+ *   - order: full-occlusion record, single-polygon plane test, the cell's
+ *     list by depth, the near list by depth.
  *
- * Depths. A list entry's depth is a lower bound of the primitive's
- * distance from the light (point-triangle distance for triangles and
- * polygons, |c - L| - r for spheres, distance to the axis segment less
- * the larger radius for cones), rounded down by 1e-6 relatively.
+ * Memory (memory() counts it), per light: cells[6 res^2] (lb_cell, 16
+ * bytes: first, count, occ depth, single slab index; cell
+ * (face res + j) res + i, faces +x -x +y -y +z -z), refs (lb_ref, 8 bytes:
+ * id, depth; each run sorted by (depth, id)), the near list, slabs (20
+ * bytes), lb_light (80). Shared: the fallback BVH. No per-thread context.
  *
- * Query (occluded). With Ps = O + tnear D (the far end of a shadow ray)
- * and Pe = O + tfar D (its end at the light), in double:
- *   1. the ray is answered by the light buffer only when it is a shadow
- *      ray of a light: ray->light names one, tfar is finite and
- *      e = |Pe - L| <= rho / 4096 (the segment ends at the light up to
- *      rounding). Every other any-hit ray (RAY_NO_LIGHT, an index out of
- *      range, a segment that does not end at its light: the conformance
- *      suite sends such) gets the exact answer from the FALLBACK, the
- *      kit's binned-SAH BVH over every primitive (accel/bvh/,
- *      bvh_occluded_dfs), whose node tests are counted as the bvh's
- *      (box_tests and steps, below).
- *   2. Every point of the segment lies within max(|Ps - L|, e) of L, so a
- *      candidate whose depth exceeds that (times 1 + 1e-6) cannot touch it:
- *      the stopping rule.
- *   3. If |Ps - L| <= rho the whole segment is within rho of the light:
- *      the near list alone holds what can touch it.
- *   4. Else the cell is that of W = Ps - L (dircube_face, dircube_uv).
- *      The segment's points farther than rho from L see L within an angle
- *      of asin(e / rho) of W's direction, which moves u-v by at most
- *      8 e / rho (plus 4e-6 for W's rounding to float): when that is more
- *      than M the ray goes to the fallback (never seen on the workloads'
- *      shadow rays, e / rho ~ 1e-4); else the grown cell holds every
- *      direction of that part, so its list holds every primitive the
- *      segment can touch farther than rho, and the near list the rest.
- *   5. The cell's full-occlusion record (fullocc), then its single-polygon
- *      plane test (single), then its list in depth order, then the near
- *      list in depth order.
+ * Counters: steps = cells read (+ fallback nodes); empty_leaves = cells
+ * read with no candidate and no record; box_tests = single-polygon plane
+ * tests (+ fallback boxes); a full-occlusion answer is a step, no test.
  *
- * Parameters (defaults; every switch defaults to on, because each is
- * implemented only in the form proven sound below):
- *   res=32        cells per face side, 1..1024 (6 res^2 cells per light),
- *                 or auto: about 4 primitives a cell where the scene is
- *                 seen: the primitives' centres binned on a coarse cube
- *                 with N / 4 cells in all, O of them occupied, give
- *                 res = G sqrt(N / (4 O)) (G the coarse side), the largest
- *                 over the lights, within 8..512 (N and O count
- *                 coincident primitives once: common/coincident.h). A rule of thumb, not the
- *                 paper's (which gives none): from far lights a scene is a
- *                 few cells wide at res 32, each holding a large part of
- *                 it, and every lit point behind tests them all (spd:tree,
- *                 7 far lights: over a thousand tests a ray at res=32).
- *   cull=on       s6.2's first simplification: polygons facing away from
- *                 the light that are part of closed opaque solids are not
- *                 listed. Closedness is decided, never assumed: triangles
- *                 and polygons (through their ear triangles) are joined
- *                 into components by shared edges, vertices matched by
- *                 exact position. A component qualifies when
- *                   - every edge is used exactly twice, once in each
- *                     direction (closed and consistently oriented: a
- *                     2-cycle), its signed volume is positive (outward),
- *                   - and it is convex (at most LB_CULL_MAX_TRIS = 4096
- *                     triangles, every vertex behind or on every
- *                     triangle's plane up to 1e-6 of its box diagonal:
- *                     float vertices of coplanar faces are never exactly
- *                     coplanar) or embedded: every two triangles whose
- *                     boxes overlap meet only where the mesh joins them
- *                     (apart by 1e-9 of the diagonal along a separating
- *                     axis; sharing one vertex: split by a plane through
- *                     it; sharing an edge: not folded onto each other),
- *                     found through the kit's BVH over their boxes.
- *                 Its winding number w is then in {0, 1} (embedded,
- *                 outward) or >= 0 (the boundary of its hull, outward).
- *                 For a light more than rho from every one of its
- *                 triangles and outside it (w = 0 by the sum of their
- *                 solid angles), a primitive all of whose triangles have
- *                 the light at least rho / 2 behind their planes is
- *                 culled: a segment from any point to the light's end
- *                 (within rho / 4096 of the light: outside too) that
- *                 crosses it goes from w to w + 1 and must come back to 0
- *                 through a triangle it crosses from back to front, which
- *                 faces the light and is listed. The closed bunny loses
- *                 about half its triangles per light; the open or
- *                 self-intersecting meshes and SPD's polygons that only
- *                 share positions along T-junctions are left alone.
- *                 Sound up to the tolerances above: a violation needs a
- *                 fold, pocket or gap thinner than them.
- *   single=on     s6.2's second: "a list of exactly one polygon can be
- *                 deleted, because a polygon cannot occlude itself". That
- *                 holds only for points ON the polygon; a point on another
- *                 primitive behind it (or any point, for the any-hit rays
- *                 this interface receives) can be shadowed by it. What is
- *                 implemented is the sound case: a cell whose final list
- *                 is one triangle or polygon keeps the polygon's slab (its
- *                 unit normal n and the range [lo, hi] of n . x over its
- *                 vertices, rounded outward), and a query whose Ps and Pe
- *                 both lie strictly on one side of the slab skips the
- *                 polygon's test (one plane test, counted as a box test):
- *                 the segment cannot meet it. That is every query from a
- *                 point of the lit polygon itself, the survey's case.
- *   fullocc=on    s6.2's third: a primitive whose projection covers the
- *                 whole (grown) cell ends the cell's list with a
- *                 full-occlusion record at depth D, the primitive's
- *                 FARTHEST point from the light (times 1 + 1e-6: every
- *                 direction of the cell meets it before D); candidates
- *                 deeper than D are dropped, and a query with |Ps - L| > D
- *                 is in shadow with no test. Covering is decided for
- *                 triangles (the cell's four grown corner directions
- *                 strictly inside the triangle's cone from the light, by
- *                 signed volumes with a 1e-7 relative margin; polygons:
- *                 all four in one ear triangle) and spheres (the corners
- *                 inside the cone of half-angle asin(r / d), with margin);
- *                 cones never. Sound because the segment runs from Ps,
- *                 beyond the primitive in every direction of the cell, to
- *                 within rho of the light, nearer than any point of it,
- *                 inside the cell's directions all along: it crosses the
- *                 primitive's interior at some t strictly in (tnear, tfar).
- *                 A query at |Ps - L| <= D (a tie) reads the list.
- *   memcap=4096   MiB: refuse a build whose cells, lists, fallback BVH and
- *                 scratch would pass it (cells and fallback estimated
- *                 before allocating them, the lists counted by a first
- *                 projection pass before they are allocated).
- *
- * Memory layout (memory() counts all of it), per light:
- *   cells[6 res^2]  lb_cell, 16 bytes: first (4) and count (4) of the
- *                   cell's run of refs, occ (4, float: the full-occlusion
- *                   depth, +inf when none), single (4: index into slabs,
- *                   or LB_NONE). Cell index (face res + j) res + i, face
- *                   0..5 for +x -x +y -y +z -z, i along u, j along v,
- *                   cell i spanning u in [-1 + 2i/res, -1 + 2(i+1)/res].
- *   refs[nrefs]     lb_ref, 8 bytes: primitive id (4) and depth (4, float),
- *                   each cell's run contiguous and sorted by (depth, id).
- *   near[nnear]     lb_ref, the near list, sorted the same way.
- *   slabs[nslabs]   lb_slab, 20 bytes: unit normal (12), lo (4), hi (4).
- *   lb_light itself (80 bytes).
- * Shared: the fallback BVH (32 bytes a node, 4 a primitive: bvh.h) and the
- * object. Nothing per thread (no context).
- *
- * Counters (accel.h): steps = cells read (one per light-buffer query) and,
- * on the fallback, the bvh's nodes visited; empty_leaves = cells read that
- * hold no candidate and no full-occlusion record; box_tests = single-polygon
- * plane tests and the fallback's node box tests; prim_tests and prim_hits
- * by prims/. A query answered by a full-occlusion record counts a step and
- * no test. occluded_fast is the same query compiled without counting
- * (accel/common/prim_test.h's pattern). Fallback rays are not counted
- * apart: on the shadow workloads they are none (steps = shadow rays there
- * says so: every light-buffer query reads one cell, near-list-only queries
- * none).
- * Statistics: nodes = cells (6 res^2 per light), leaves = cells with a
- * non-empty list, empty_leaves = cells with none, avg_leaf_prims = refs
- * over non-empty cells, refs_per_prim = (cell refs + near refs) over
- * primitives, res_x = res_y = res.
- *
- * Not implemented: Haines and Greenberg's scan-line rasterisation itself
- * (the clipped projection is rasterised row by row, the same coverage),
- * lights other than points, the surface-orientation test of the shading
- * point (the workloads spawn no shadow ray from a surface facing away,
- * spawn.h), enclosed polygonal meshes for curved surfaces' full occlusion
- * (spheres use their exact cone; cones none), culling of closed solids
- * that are neither convex nor embedded (or of spheres, cones and open
- * meshes: nothing closed to decide), per-cell minimum depths (the list is
- * keyed by the primitive's distance from the light over all its points),
- * a resolution of its own for each light, adaptive subdivision of the
- * faces (survey fig. 18(c)). */
+ * Not implemented: the scan-line rasteriser itself (same coverage), lights
+ * other than points, the shading point's orientation test, enclosing
+ * meshes for curved surfaces, culling of solids neither convex nor
+ * embedded, per-cell minimum depths, per-light resolutions, adaptive face
+ * subdivision (survey figure 18(c)). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -680,8 +532,8 @@ static void cell_corners(const lb_t *t, uint32_t cell, dv d[4])
 /* ------------------------------------------------------------ culling */
 
 /* Culling's build-time part: comp[id] is the component of primitive id
- * when it lies wholly on one qualifying closed convex component (see the
- * header), else LB_NONE; ctris[] are the triangles of the qualifying
+ * when it lies wholly on one qualifying closed convex component (docs/accels/
+ * directional.md, cull), else LB_NONE; ctris[] are the triangles of the qualifying
  * components, grouped by component (cfirst[c] .. cfirst[c + 1]). */
 typedef struct {
     uint32_t *comp;
@@ -1333,7 +1185,7 @@ static int on_off(const accel_params *params, const char *key, bool *out, char *
     return 0;
 }
 
-/* res=auto (see the header): per light, the primitives' centres are
+/* res=auto (docs/accels/directional.md): per light, the primitives' centres are
  * binned on a coarse cube of G x G cells a face, 6 G^2 = N / 4 (about 4 a
  * cell were they spread over every direction); with O of its cells
  * occupied, N / O primitives a cell there, the resolution at which that
@@ -1463,7 +1315,7 @@ BODY bool slab_misses(const lb_slab *s, dv ps, dv pe)
     return (a > s->hi && b > s->hi) || (a < s->lo && b < s->lo);
 }
 
-/* The query of the header (steps 1-5). */
+/* The query: the file header's query invariants, in their order. */
 BODY bool query(const lb_t *t, const ray_t *ray, counters_t *c, const bool counting)
 {
     if (ray->light >= t->nlights || !isfinite(ray->tfar)) return fallback(t, ray, c, counting);

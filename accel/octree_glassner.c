@@ -1,180 +1,48 @@
 /* octree_glassner.c: Glassner's octree with named, hashed nodes and
- * sequential traversal (`octree`).
+ * sequential traversal (`octree`). Reference: docs/accels/octree.md.
  *
  * Papers:
  *   A. S. Glassner, "Space Subdivision for Fast Ray Tracing", IEEE CG&A
- *     4(10), 1984, as the survey of J. Arvo and D. Kirk, "A Survey of Ray
- *     Tracing Acceleration Techniques" (1989), describes it in s5.1 and
- *     figures 10, 11 and 13: candidate lists of the objects whose surfaces
- *     penetrate a voxel, nodes named (root 1, child = 10 x parent + digit
- *     1..8) and found through a hash table keyed by name modulo its size,
- *     point location from the root by names, the next voxel found from a
- *     point moved minlen/2 beyond the exit face (and beyond each face of an
- *     exit edge or vertex), minlen the shortest voxel edge of the tree.
- *   A. Fujimoto, T. Tanaka, K. Iwata, "ARTS: Accelerated Ray-Tracing
- *     System", IEEE CG&A 6(4), 1986 (survey s5.2, last paragraph): the
- *     3DDDA among the eight siblings of a node, "vertical" steps up to the
- *     ancestor that has a neighbour on the exit side and down again.
- *   The survey s5.3: mailboxes (Arnaldi et al. 1987) and the rule that a
- *     walk may end only on a hit inside the current voxel.
- *   V. Havran, "A Summary of Octree Ray Traversal Algorithms", Ray Tracing
- *     News 12(2), 1999: OCTREE84-C, Glassner's octree subdivided at box
- *     centres, stopped by maximum depth and by fewer than two objects in a
- *     node (here term=const, maxprims=2); OCTREE84-A is Glassner's octree
- *     with the Octree-R construction (Whang et al., IEEE TVCG 1(4), 1995:
- *     each node's three planes placed at the minimum of MacDonald and
- *     Booth's cost estimate). NOTE: term=cost below is NOT Havran's O84-A:
- *     it keeps the centre planes (which the names and minlen stepping are
- *     built on) and uses the same cost estimate to STOP subdividing; the
- *     cost-placed planes of Octree-R are not implemented.
- *   J. D. MacDonald, K. S. Booth, "Heuristics for Ray Tracing Using Space
- *     Subdivision", The Visual Computer 6(3), 1990: the surface area
- *     heuristic, the cost model of term=cost.
+ *     4(10), 1984, as the Arvo-Kirk survey (1989) describes it in s5.1 and
+ *     figures 10, 11, 13, 17: candidate lists, names (root 1, child = 10 x
+ *     parent + digit 1..8) in a hash table keyed by name mod size, point
+ *     location by names, the next voxel from a point moved minlen/2 past
+ *     each exit face.
+ *   A. Fujimoto, T. Tanaka, K. Iwata, "ARTS", IEEE CG&A 6(4), 1986 (survey
+ *     s5.2): 3DDDA among siblings with vertical steps (walk=fujimoto).
+ *   Survey s5.3: mailboxes; a walk may end only on a hit in its voxel.
+ *   V. Havran, RTN 12(2), 1999: the defaults are his OCTREE84-C.
+ *   J. D. MacDonald, K. S. Booth, The Visual Computer 6(3), 1990, s3: the
+ *     cost estimate of term=cost, used to STOP only (the planes stay at the
+ *     centres; Octree-R's cost-placed planes are not implemented).
  *
- * Parameters (defaults):
- *   maxdepth=8     deepest node (root 0), 0..20: 0 is one voxel holding
- *                  every primitive (exhaustive's tests per ray). Larger
- *                  values are refused with a reason (8^20 voxels already
- *                  pass any memory), and so is a build that passes memcap.
- *   maxprims=2     a voxel with more candidates than this is subdivided
- *                  (Havran's O84-C: fewer than two objects stop), 0..2^30.
- *   term=const|cost  const: maxdepth and maxprims only (O84-C). cost: also
- *                  stop where subdividing does not lower MacDonald-Booth's
- *                  expected cost of a ray that crosses the voxel: a leaf
- *                  costs n * ci; eight children cost sum over children of
- *                  P(child | voxel) (ct + n_child * ci), where P is the
- *                  ratio of surface areas (MacDonald-Booth s3, for rays of
- *                  uniform random lines), which is 1/4 for every octant of
- *                  any box, so the split costs 2 ct + (ci / 4) sum n_child.
- *   ci=80, ct=1    the cost of one primitive test and of entering one
- *                  voxel (term=cost only): pbrt-v3's kd-tree constants
- *                  (Pharr, Jakob, Humphreys, PBR 3rd ed. s4.4), kept as
- *                  parameters since one octree step (a hashed descent from
- *                  the root) costs far more than one kd-tree node.
- *   insert=exact|glassner  exact: a primitive is a candidate of a voxel
- *                  when prim_overlaps_box says its surface touches the
- *                  voxel's box (padded, below). glassner: Glassner's test,
- *                  the surface against each of the six faces (a face is a
- *                  box of zero thickness, again prim_overlaps_box), and, if
- *                  it meets none, the contained-point rule: a surface point
- *                  inside the voxel puts the whole (connected) surface
- *                  inside. prims/ gives no vertices, so the point is the
- *                  one where the surface touches its own tight bounding
- *                  box, and "it lies inside the voxel" is decided as "the
- *                  bounds lie inside the voxel" (the surface reaches every
- *                  face of its tight bounds, so with no face crossed the
- *                  two are the same). For connected surfaces both rules
- *                  give the same lists; they differ in cost.
- *   walk=glassner|fujimoto  glassner: Glassner's sequential traversal
- *                  (below). fujimoto: ARTS's 3DDDA among siblings with
- *                  vertical steps (below).
- *   mailbox=on|off Arnaldi mailboxes (accel/common/mailbox.h, per thread,
- *                  4 bytes per primitive): a primitive met again by the
- *                  same ray is skipped and counted in mailbox_hits.
- *   memcap=4096    MiB: the build stops with a reason once its arrays,
- *                  its live candidate lists and the hash table it will need
- *                  would pass this (checked before every allocation).
+ * Names are exact 128-bit integers (depth 20 needs 68 bits), stored in the
+ * table as 64 + 32 bits; the bucket is carried down a path as
+ * (10 h + digit) mod size (hash_mod_extend). Nothing is truncated.
  *
- * Names. A node's name is its path in decimal digits: the root is 1, a
- * child is 10 x parent + digit, digit = 1 + x + 2y + 4z for the octant
- * (x, y, z each 0 for the low half, 1 for the high half). A name of depth d
- * has d + 1 digits, so names of depth 18 (at most 1.9e18) fit 64 bits,
- * some of depth 19 (up to 1.9e19) do not (2^64 = 1.8e19), and depth 20
- * needs 68 bits. Names are therefore held as exact 128-bit integers
- * (unsigned __int128) everywhere, and the table stores them as a 64-bit
- * low word and a 32-bit high word (96 bits, enough for names of 28
- * digits); the bucket (name mod table size) is carried down the path as
- * (10 h + digit) mod size (accel/common/hash.h hash_mod_extend), exact for
- * names of any length. Nothing is truncated or wraps.
+ * Memory (memory() counts it): the hash_mod_table (start[size + 1] and a
+ * 16-byte entry per stored name; value OCT_INTERIOR or a leaf index),
+ * oct_leaf[nleaves] (8 bytes: first, count) and ids (uint32, each list
+ * ascending). Empty voxels are not stored. Interior nodes have no box:
+ * boxes are recomputed from the root by the same float midpoints in the
+ * build and both walks, so all see bit-identical planes. Per thread: the
+ * mailbox (4 bytes a primitive); paths live on the C stack (<= 21 levels).
  *
- * Memory layout (memory() counts all of it):
- *   table   hash_mod_table (accel/common/hash.h): buckets = the smallest
- *           prime >= the stored names (load <= 1), chained (hash.h says
- *           why not probed): start[size+1]
- *           uint32 offsets and one 16-byte entry per stored name, key =
- *           the name (low 8 + high 4 bytes), value = OCT_INTERIOR
- *           (0xffffffff) for an interior node or the index of the leaf's
- *           record. Empty voxels are not stored (Glassner): a name that is
- *           absent is an empty voxel.
- *   leaves  oct_leaf[nleaves], 8 bytes each: first, count into ids.
- *   ids     uint32 primitive ids, leaf after leaf, each list ascending.
- *   Total = 4 (size + 1) + 16 names + 8 nleaves + 4 nrefs + the struct,
- *   about 20 bytes per interior node and 28 per leaf. Interior nodes cost
- *   one table entry and nothing else: boxes are recomputed from the root
- *   box by the same float midpoints in the build and the walks, so both
- *   see bit-identical voxel planes.
- *   Per thread (context, not in memory()): the mailbox, 4 bytes per
- *   primitive; a walk keeps its root-to-leaf path (at most 21 levels of
- *   box, name, bucket and octant) on the C stack.
+ * Invariants:
+ *   - a voxel's candidates touch its box grown by pad (the grid's slack),
+ *     so a primitive in or near a plane is a candidate on both sides;
+ *   - no child edge is shorter than 2^-20 of the root's largest coordinate,
+ *     so minlen/2 always moves a point out of its voxel;
+ *   - candidates are tested over [tnear, tHit); a closest-hit walk ends in
+ *     the first voxel whose exit t >= tHit;
+ *   - every step strictly increases the exit t (glassner: checked, with a
+ *     relocation by ray parameter and then an all-primitive fallback;
+ *     fujimoto: one plane forward per step, capped), so no voxel is
+ *     entered twice and every walk ends.
  *
- * Build: top-down from the root box, the scene's bounds (an axis of zero
- * extent widened by 1e-3 of the largest, as the grid does) grown by pad =
- * 2e-6 max|coordinate| + 1e-6 diagonal (the grid's slack, about 16 float
- * steps at the scene's scale). A voxel's candidates are those of its parent
- * that touch the voxel's box grown by pad, so a primitive within pad of a
- * face is a candidate on both sides; a primitive lying in a voxel plane
- * is in both voxels. Subdivision stops at maxdepth, at <= maxprims
- * candidates (coincident ones counted once, common/coincident.h: copies of
- * a triangle are in every voxel it touches, however small, so a voxel of
- * copies is a leaf instead of a reason to subdivide to maxdepth), on the
- * cost rule (term=cost), and where a child's shortest
- * edge would be below 2^-20 of the root box's largest coordinate magnitude
- * (then minlen/2 is still at least 4 float steps of every coordinate in
- * the box, so a moved point always leaves its voxel). Each candidate is
- * tested against the bounds of the child first, prim_overlaps_box only on
- * an overlap.
- *
- * The walks. The ray is clipped to the root box (slab test: [t0, t1],
- * within [tnear, tfar]). Both walks end a closest-hit query in the first
- * voxel whose exit t is >= the running hit (survey s5.3: the running hit
- * is the mailbox's stored result; a hit beyond the voxel keeps the walk
- * going), an any-hit query at the first occluder, and either at t1.
- *   glassner: locate the voxel holding the point Q by names from the root:
- *     at each node, look its name up (absent: an empty voxel; a leaf: done;
- *     interior: pick the octant of Q against the node's mid planes, a tie
- *     going to the side the ray moves to). Q starts as the ray's point at
- *     t0. After a voxel with exit t = b, its exit faces are those whose
- *     plane's t equals b (one: a face, two: an edge, three: a vertex); Q is
- *     the exit point moved minlen/2 beyond each of them (on those axes Q =
- *     plane +- minlen/2; on the others the exit point, clamped to the
- *     voxel's face).
- *     Checks (float rounding; never seen to fire on the test scenes, but
- *     counted, and tests/test_octree.c makes them fire): the voxel found must be where the ray is at t = b, i.e.
- *     its slab interval [a', b'] must have a' <= b + tol and b' > b (tol =
- *     pad / (4 max|dir|), so a skipped piece of ray lies within pad/2 of
- *     the previous voxel, whose list holds every primitive there). If not,
- *     the voxel is located again by ray parameter (below); if that fails
- *     too, every primitive is tested (mailboxes skip those already
- *     tested). b' > b makes t strictly increase, so no voxel is entered
- *     twice and the walk ends.
- *   fujimoto: the voxel at t0 is located by ray parameter: at each interior
- *     node the octant is the one the ray is in just after t, from the t of
- *     the three mid planes, (plane - org) / dir, the same float formula as
- *     the slab test, so the walk and the voxels' exit ts always agree. The
- *     next voxel is the 3DDDA's: the exit axis of smallest plane t (the
- *     lowest axis on a tie: an edge or vertex exit takes one zero-length
- *     voxel per extra axis); if the octant digit of the current node on
- *     that axis is on the near side, the neighbour is its sibling (the
- *     digit changes by 1, 2 or 4); otherwise the walk goes up until an
- *     ancestor has that sibling, and from it down again by ray parameter.
- *     Each step crosses one plane forward, so no voxel is entered twice and
- *     the walk ends (a cap of three times the voxel count, a safety net,
- *     falls back to testing every primitive).
- *
- * Counters: box_tests = 1 root clip + 1 per node looked up during point
- * locations (the point-in-node tests of survey figure 17); steps = voxels
- * entered; empty_leaves = voxels entered with no candidate; mailbox_hits.
- * intersect_fast/occluded_fast are the same walks compiled without them.
- * Statistics: nodes (interior), leaves (stored), empty_leaves (absent
- * names of empty voxels), max_depth, avg_leaf_prims, refs_per_prim;
- * hash_load (stored names / buckets),
- * hash_probes_avg and hash_probes_max (entries compared to find a stored
- * name) and hash_probes_miss_avg (entries compared for the name of an
- * empty voxel, over every empty voxel of the tree).
- *
- * Not implemented: Octree-R's cost-placed planes (Havran's O84-A, above);
- * Glassner's storage limit as a stopping rule (memcap refuses instead);
- * Samet's and Gargantini's traversals (Havran's O89, O93). Building is
+ * Counters: box_tests = root clip + nodes looked up in point locations;
+ * steps = voxels entered; empty_leaves; mailbox_hits. intersect_fast /
+ * occluded_fast are the same walks without them. Building is
  * single-threaded. */
 #include <limits.h>
 #include <math.h>

@@ -1,149 +1,53 @@
 /* raycls_arvo_kirk.c: `raycls`, Arvo and Kirk's ray classification.
+ * Reference: docs/accels/directional.md.
  *
  * Paper: J. Arvo, D. Kirk, "Fast Ray Tracing by Ray Classification",
- * SIGGRAPH '87 (Computer Graphics 21(4), 55-64), as their survey "A Survey
- * of Ray Tracing Acceleration Techniques" (1989) describes it in s6.1 (the
- * direction cube, figure 19), s6.4 (figures 22 and 23) and s6.5 (figure
- * 24's row "ray classification": built lazily while tracing, candidate
- * lists by a hierarchy of beams, nonuniform direction subdivision, caching):
- *   - a ray is a 5-D point (x, y, z, u, v): its origin in the scene box B
- *     and its direction as (u, v) on the face of the direction cube of its
- *     dominant axis (accel/common/dircube.h, figure 19). Six hyper-octrees,
- *     one per face, each over B x [-1, 1]^2;
- *   - a hypercube H is a set of rays: origins in a 3-D box, directions in a
- *     u-v cell. Their union is the beam of H (figure 22: the box plus the
- *     direction pyramid), and H's candidate list C(H) holds every primitive
- *     that meets the beam (occlusion neglected);
- *   - built while tracing (figure 23): the leaf holding the ray's 5-D point
- *     is found (from the per-thread cache or the root); an "inherited" list
- *     is culled against the leaf's beam; while the list is longer than
- *     maxcands and the leaf shallower than maxdepth, the leaf is split along
- *     all five axes at their midpoints into 32 children that inherit (point
- *     to) its list, and the child holding the ray is culled in turn. The
- *     other 31 are culled only when a ray first reaches them. An origin
- *     axis whose halves would be narrower than float coordinates at B
- *     resolve (common/float_res.h: float_res_min_cell of B and the slack
- *     pad below) is left unsplit: far from the origin the pad outgrows
- *     such halves and every child would keep its parent's list;
- *   - culling (C(H) n Beam(H)): beam=cone bounds the beam by a cone and each
- *     primitive by a sphere (the survey: "only a rough approximation, but
- *     very fast"); beam=exact tests the primitive's bounding box against the
- *     beam itself (a convex polyhedron), exactly (below);
- *   - each root list holds every primitive, sorted once by its minimum
- *     extent along the face's direction (for -x: by max x, descending), ties
- *     by id; culling only deletes entries, so every list keeps that order
- *     with no further sorting. Candidates are tested in it, and processing
- *     stops when the ray's interval [tnear, t_hit] projected on the face's
- *     direction lies before the next candidate's minimum extent (figure 23):
- *     no later candidate can then be hit before t_hit, so the closest hit is
- *     exact (the comparison waits a slack past t_hit, as a primitive's float
- *     t may fall just before its exact hit: see rc_reach);
- *   - truncation (s6.4, "partial candidate lists"): with truncate=D a
- *     hypercube's list drops every primitive lying wholly beyond the plane
- *     D x (B's extent along the axis) past the far face of its origin box
- *     (since the lists are sorted by minimum extent, that is a prefix). A
- *     ray that gets past that plane without a hit before it is "pushed": its
- *     origin moves to where it crosses the plane and it is classified anew
- *     (the same ray keeps its tnear and its running hit; the new leaf's
- *     beam covers the rest of it). A per-thread mailbox skips primitives the
- *     ray already tested in an earlier leaf.
+ * SIGGRAPH '87, as their survey (1989) describes it in s6.1 (the direction
+ * cube, figure 19), s6.4 (figures 22, 23) and s6.5 (figure 24).
+ *   - A ray is a 5-D point (x, y, z, u, v): its origin in the scene box B
+ *     and its direction on the face of its dominant axis
+ *     (accel/common/dircube.h). Six hyper-octrees, one per face.
+ *   - A hypercube H is a set of rays; its candidate list C(H) holds every
+ *     primitive meeting its beam (origin box swept along the u-v pyramid).
+ *   - Built while tracing (figure 23): the ray's leaf is found (cache or
+ *     root), its inherited list culled against its beam; while longer than
+ *     maxcands and shallower than maxdepth it splits along all five axes
+ *     into 32 children that inherit the list, and the ray's child is culled
+ *     in turn. Siblings are culled when a ray first reaches them.
+ *   - Root lists are sorted once by each primitive's minimum extent along
+ *     the face's direction (ties by id); culling only deletes, so every
+ *     list stays sorted, and a ray stops once [tnear, t_hit] projected on
+ *     the direction lies before the next candidate (rc_reach adds a slack).
+ *   - truncate=D (s6.4 partial lists) drops the suffix wholly past a plane;
+ *     a ray passing it unhit is pushed to the plane and classified anew,
+ *     its running hit kept and a per-thread mailbox skipping re-tests.
  *
- * Rays, soundly: the ray is clipped to B (padded, see slack) in double; a
- * ray that misses B misses everything. Its classification point is the
- * point where it enters B (or its tnear point when that is inside B),
- * computed in double and clamped into B. A ray whose coordinates are so
- * large that double rounding of that point could exceed the slack (about
- * 1e9 times the scene's size away) is not classified: it is tested against
- * its face's root list (every primitive, with the stopping rule). Slack:
- * origin boxes are grown by pad = 2e-6 max|B| + 1e-6 diag(B) for culling,
- * u-v cells by 1e-6, spheres by 1e-6 relative plus pad; culling runs in
- * double. So no primitive that a ray of the hypercube can hit is dropped
- * by rounding.
+ * Invariants: culling runs in double on origin boxes grown by pad, u-v
+ * cells grown by 1e-6 and spheres grown likewise, so no primitive that a
+ * ray of H can hit is dropped by rounding; an inherited list is a superset
+ * of the culled one, so a leaf left unculled (memcap reached while
+ * tracing) still answers exactly; beam=exact never keeps what beam=cone
+ * drops. An origin axis too narrow for float coordinates at B is not
+ * split. A ray so far away that its classification point could round past
+ * the slack is tested against its face's root list instead.
  *
- * Parameters (defaults):
- *   maxdepth=auto   deepest hypercube (roots at 0), 0..20; auto: 8 when
- *                   lazy, 2 when lazy=off (a full tree has 6 x 32^depth
- *                   leaves).
- *   maxcands=16     split a leaf whose list is longer than this.
- *   truncate=0      D >= 0 (0: off), the partial lists above.
- *   lazy=on         on: built while tracing (figure 23), ACCEL_MUTATES;
- *                   reset() returns to the six roots. off: every hypercube
- *                   is split by the same rule at build time, breadth first
- *                   over the whole space, until maxdepth, maxcands or memcap
- *                   stops it; the structure is then immutable and
- *                   thread-safe (the table still says ACCEL_MUTATES, as it
- *                   is one table for both, so the harness traces it on one
- *                   thread).
- *   beam=cone       cone (cone-sphere) | exact (box-beam).
- *   memcap=1024     MiB: the build is refused when the roots' lists and
- *                   the per-primitive tables pass it; lazy growth past it is
- *                   refused while tracing: the leaf is then used as it is
- *                   (an inherited list is a superset of its own, so answers
- *                   stay exact), nothing more is split or culled until
- *                   reset(), one line says so on stderr (once per build),
- *                   and the refusals are counted (raycls_debug_counts).
+ * Node: rc_node, 64 bytes (one cache line): lo[5], hi[5], first of 32
+ * consecutive children (0: leaf), list and count into pool, tplane,
+ * parent, depth, own, face. memory(): the object, key[6n] (4 bytes),
+ * sphere[n] (16 bytes), nodes (six roots first) and pool (six root lists,
+ * 6n entries, then culled lists appended); each split adds 2 KiB. reset()
+ * drops all past the roots. Per thread: the last leaf per face; with
+ * truncate a mailbox.
  *
- * Beam tests. Face f has axis a, sign s, and U, V the other two axes in
- * lexicographic order; the cell's directions are s e_a + u e_U + v e_V.
- *   cone: the pyramid of the cell lies in the cone of axis w (the cell
- *   centre's direction) and half-angle theta (the largest angle to a
- *   corner); the origin box lies in the ball (centre c, radius r) of its
- *   half diagonal; ball + cone lies in the same cone with apex moved back to
- *   c - w r / sin(theta). A sphere meets the cone when its centre is within
- *   its radius of the cone (distance to the apex when the centre lies
- *   behind the apex's normal cone).
- *   exact: box Q meets box O + pyramid P exactly when the box Q - O =
- *   [Q.lo - O.hi, Q.hi - O.lo] meets P, a cone from the origin; with T = s
- *   x_a >= 0 the conditions u0 T <= x_U <= u1 T (and for v) have a point
- *   of the box when T lies in an interval computed from five linear
- *   bounds. Q here is prim_bounds, so exact is exact for the bounding box;
- *   as the box lies in its circumsphere and the beam in its cone, exact
- *   never keeps a primitive cone drops (tests/test_raycls.c checks it).
+ * ACCEL_MUTATES (the lazy build writes the shared tree); lazy=off builds
+ * everything up front and is then immutable, under the same table.
+ * Counters: box_tests = clip to B + cache probes; steps = hypercubes
+ * entered on the way down; empty_leaves; mailbox_hits after pushes. Steps
+ * and box tests depend on the thread's earlier rays through the cache;
+ * primitive tests and answers do not.
  *
- * Node: 64 bytes (rc_node, _Static_assert): the hypercube as lo[5], hi[5]
- * (40: x, y, z, u, v), child (first of 32 consecutive children, child +
- * bits with bit k set for the upper half of axis k; 0: a leaf), list and
- * count (its candidates, pool[list .. list + count)), tplane (the
- * truncation plane of its list along the face's direction; +inf for a
- * complete list), parent, depth, own (0: the list is its parent's,
- * inherited, not yet culled), face.
- * Memory layout (memory() counts what is in use; capacity grows by
- * doubling but never past memcap): the object (about 200 bytes); key[6 n]
- * (4 bytes: minimum extent of each primitive along each face's direction);
- * sphere[n] (16 bytes: centre, radius); nodes[], the six roots first
- * (0 .. 5, face order), children appended as made; pool[], uint32 ids, the
- * six root lists first (6 n entries), then every culled list appended. So
- * after build: 40 n + 24 n + 384 bytes plus the object; each split adds
- * 2 KiB, each culling 4 bytes per kept entry. reset() (lazy) drops every
- * node and entry past the roots'. memory() is read after a pass by the
- * harness, so it is the structure one pass of the ray set grew.
- * Per thread (context, not in memory()): the cache of the last leaf used
- * per face (6 x 4 bytes); with truncate > 0 a mailbox (4 bytes per
- * primitive).
- *
- * Counters: box_tests = 1 per ray (its clip to B) + 1 per cache probe (the
- * 5-D containment test of the last leaf of that face); steps = hypercubes
- * entered on the way down (the root and every level, including levels
- * made by lazy splits); empty_leaves = leaves used whose list is empty;
- * mailbox_hits = primitives skipped after a push. Through the cache,
- * steps and box_tests depend on the rays a thread traced before (which
- * leaf is cached); the primitive tests and the answers do not, as every
- * ray reaches the same leaf either way. intersect_fast and
- * occluded_fast are the same walk compiled without counting
- * (accel/common/prim_test.h). Statistics: nodes (interior hypercubes),
- * leaves (leaf hypercubes with a list of their own: reached by a ray, or
- * all of them when eager; the siblings a split leaves unreached are not
- * counted), empty_leaves (of those, the ones with an empty list), max_depth
- * and avg_leaf_prims (list entries per non-empty one) over the same,
- * refs_per_prim (pool entries, root lists included, over primitives),
- * lazy_build_ms (time spent culling and splitting while tracing since the
- * last reset).
- *
- * Not implemented: Arvo and Kirk's first-generation special case (a direction
- * cube for eye rays: here eye rays are classified like any other), object
- * hierarchies to speed up culling, polyhedral bounds tighter than a box,
- * subdivision of the roots' lists by anything but the beam. Building is
- * single-threaded. */
+ * Not implemented: the eye-ray special case, object hierarchies for
+ * culling, bounds tighter than a box. Building is single-threaded. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -298,7 +202,7 @@ static void t_bound(double c, double rhs, double *tlo, double *thi)
     else if (rhs < 0) *tlo = INFINITY; /* 0 <= rhs fails: empty */
 }
 
-/* Box q against the beam itself (see the file header). */
+/* Box q against the beam itself (beam=exact; docs/accels/directional.md). */
 static bool exact_keeps(const rc_beam *b, box3 q)
 {
     double qlo[3], qhi[3];

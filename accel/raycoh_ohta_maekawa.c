@@ -1,127 +1,54 @@
-/* raycoh_ohta_maekawa.c: Ohta and Maekawa's ray coherence algorithm.
+/* raycoh_ohta_maekawa.c: `raycoh`, Ohta and Maekawa's ray coherence
+ * algorithm. Reference: docs/accels/directional.md.
  *
- * M. Ohta, M. Maekawa, "Ray Coherence Theorem and Constant Time Ray
+ * Paper: M. Ohta, M. Maekawa, "Ray Coherence Theorem and Constant Time Ray
  * Tracing Algorithm", Computer Graphics 1987 (Proc. CG International '87),
- * Springer, 303-314; as the survey (Arvo & Kirk 1989) describes it in
- * s6.3, figures 20-21, with s6.1's direction cube (figure 19,
- * accel/common/dircube.h) and s6.5's comparison.
+ * Springer, 303-314; as the Arvo-Kirk survey (1989) describes it in s6.3,
+ * figures 20-21, with s6.1's direction cube (accel/common/dircube.h).
  *
- * The theorem (figure 20). Every segment from a point of sphere S1 (centre
- * O1, radius r1) to a point of sphere S2 (O2, r2), with D = |O2 - O1| >
- * r1 + r2, makes an angle theta with O2 - O1 of
- *     sin(theta) <= (r1 + r2) / D,  i.e.  cos(theta) >= sqrt(1 - ((r1 + r2) / D)^2):
- * the segment's direction q - p lies in the Minkowski difference S2 - S1,
- * the sphere of radius r1 + r2 about O2 - O1, and the directions from the
- * origin to a sphere of radius R at distance D fill the cone of half-angle
- * asin(R / D) (tangent segments reach it, so the bound is tight). The
- * survey's printed inequality (4), cos(theta) > sqrt(1 - (r1 + r2) / D), is
- * garbled: the ratio lost its square (and ">" should be ">=", tangent
- * segments give equality). Since sqrt(1 - x) <= sqrt(1 - x^2) for x in
- * [0, 1] the printed bound is still true but looser; we use the derived one.
- * The same segment is at least d = D - r1 - r2 long (0 when the spheres
- * meet, and then every direction is possible).
+ * The theorem (figure 20): every segment from sphere S1 (O1, r1) to sphere
+ * S2 (O2, r2), D = |O2 - O1| > r1 + r2, makes an angle theta with O2 - O1
+ * with sin(theta) <= (r1 + r2) / D (its direction lies in the sphere of
+ * radius r1 + r2 about O2 - O1; tangent segments reach the bound), and is
+ * at least d = D - r1 - r2 long. The survey's printed inequality (4) has
+ * lost the square of the ratio; the derived bound is used.
  *
- * Entities and objects. All pairs of primitives are far too many on a mesh
- * (the bunny's 75k triangles make 5.6e9), so primitives are grouped into
- * clusters of at most `objsize` (default 64) by the kit's median BVH
- * (accel/bvh/, leaves of objsize/2 .. objsize primitives: the median
- * builder splits every node over objsize at its centroid median, so leaves
- * are even and spatially compact; built over the distinct primitives, each
- * cluster then taking every copy of its members: common/coincident.h, so
- * copies make one cluster instead of many that all see each other). Far
- * from the origin clusters are kept at least as wide as float coordinates
- * there resolve (make_clusters), and may then hold more than objsize. Each
- * cluster gets a bounding sphere
- * (centre: its box's centre; radius: the farthest corner of any member's
- * box). Every cluster is both an entity (rays originate on it) and an
- * object (rays hit it). Lights are entities with lights=on: the coherence
- * theorem for a point entity lists, in each cell of the light's cube, the
- * objects that meet the cell's pyramid from the light, which is the light
- * buffer (s6.2; figure 21's light entity), so a shadow ray toward scene
- * light l (ray->light) is answered by light l's cube in a `lightbuf` built
- * with its defaults (accel/lightbuf_haines_greenberg.c: its lists, depth
- * order and simplifications), counted as it counts. With lights=off (the
- * default) a shadow ray leaves a primitive like any secondary ray, and its
- * origin cluster's cube answers any-hit as it answers closest-hit.
+ * Entities and objects: clusters of at most objsize primitives, the kit's
+ * median BVH leaves over the distinct primitives (each cluster takes every
+ * copy of its members), none narrower than float coordinates resolve
+ * (make_clusters); each with a bounding sphere. With lights=on the lights
+ * are entities too, answered by a `lightbuf` with its defaults.
  *
- * Build (figure 21). Every cluster A gets a direction cube of 6 `res` x
- * `res` cells (default 8; figure 19's faces and u-v). For every cluster B
- * (A itself included: rays hit other primitives of their own cluster, and
- * a concave one may be hit by its own rays), the cone of directions of
- * rays from A's sphere to B's is computed as above, and B is listed, with
- * d, in every cell of A's cube whose direction pyramid the cone meets; the
- * lists are sorted by d (B's are visited in order of d, so appending
- * keeps every list sorted). A cell's pyramid is bounded by a cone (axis
- * through its centre, half-angle to its farthest corner: the directions
- * within an angle < 90 degrees of an axis form a convex cone, so the
- * corners bound the whole cell); cone meets cone when the angle between
- * axes is at most the sum of half-angles. The cells of a face are visited
- * through a precomputed quadtree of such cones (a node's cone bounds its
- * block of cells), so a narrow cone costs a few nodes, not 6 res^2.
+ * Build (figure 21): each cluster A has a cube of 6 res^2 cells; every
+ * cluster B (A included) is listed with d in each cell whose cone (axis
+ * through the cell centre, half-angle to its farthest corner) meets the
+ * A-to-B cone, found through a quadtree of cell cones. B's are visited in
+ * order of d, so every list is appended sorted.
  *
- * Query. A ray names the primitive it leaves (ray_t.origin, set by
- * harness/spawn.c on every secondary ray). When that primitive is in range
- * and the ray's org lies inside its cluster A's sphere (the cone bound
- * needs only that: it is a geometric fact about the two spheres, so a
- * wrong but nearby origin primitive still gives exact answers), the cell
- * of A's cube holding dir is read, and the listed clusters' primitives are
- * tested in order of d until d exceeds the distance of the closest hit
- * found, t |dir| (t is in units of dir; survey s6.3's distance interval),
- * or for any-hit until an occluder or d beyond tfar |dir|. With `spheres`
- * (on by default) a listed cluster is first tested against its bounding
- * sphere (the object's own bound; counted in box_tests), and skipped when
- * the ray's line misses it or its chord lies outside [tnear, closest t];
- * steps counts the list entries read, empty_leaves the empty cells read. Every other ray
- * (eye and random rays, RAY_NO_ORIGIN, an origin outside its cluster's
- * sphere) goes to the `fallback` accelerator, built through accel_build
- * with its defaults, and is counted as it counts.
+ * Query: a ray names the primitive it leaves (ray_t.origin, harness/
+ * spawn.c). If its org lies inside that primitive's cluster sphere, the
+ * cell of dir is read and the listed clusters tested in order of d until d
+ * exceeds the closest hit's distance t |dir| (any hit: an occluder or d
+ * past tfar |dir|). Every other ray goes to the `fallback` accelerator.
  *
- * Parameters (defaults): res (8) cells per cube face side, 1..64;
- * objsize (64) primitives per cluster at most (but for the float
- * resolution rule of make_clusters), 1..65536; fallback (bvh,
- * the wide SIMD BVH, the fastest besides Embree) the accelerator for rays
- * without a usable origin, any registered one that answers closest hits,
- * does not mutate and is not raycoh; spheres
- * (on) a listed cluster's bounding sphere tested before its primitives;
- * lights (off) on: shadow rays through the lights' cubes (above);
- * memcap
- * (4096) MiB for the clusters, cubes and lists (the fallback has its own
- * cap): the clusters and cells are estimated before allocating them, the
- * lists checked before every growth, a build over the cap is refused.
+ * Invariants: the cone bound needs only the origin inside the sphere, so a
+ * wrong but nearby origin primitive still answers exactly; a query accepts
+ * an origin within r + margin of the centre while the cones use r + 2
+ * margin (margin = 1e-6 scene diagonal + 4e-6 max coordinate), cells are
+ * grown by 1e-3 in u-v and cone tests by 1e-6 rad, d is rounded down: no
+ * rounding admits a ray the cones were not built for.
  *
- * Sizes and memory layout. Clusters: rc_obj, 24 bytes (sphere centre and
- * radius, first and count into `ids`), `ids` 4 bytes a primitive (the
- * clusters' primitives, contiguous), `prim_obj` 4 bytes a primitive (its
- * cluster). Cells: rc_cell, 8 bytes (first, count into `refs`), 6 res^2 per
- * cluster, cluster-major then face, v, u (cell (f, i, j) of cluster k at
- * (k 6 + f) res^2 + j res + i). Lists: rc_ref, 8 bytes (cluster index and
- * d as a float, rounded down), one run per cell, sorted by d. Quadtree:
- * built per accelerator, 56 bytes a node, 2 x 6 res^2 - 6 nodes. memory()
- * adds the fallback's memory and, with lights=on, the light buffer's. Statistics: nodes (cells, 6 res^2 a
- * cluster), leaves and empty_leaves (non-empty and empty cells),
- * avg_leaf_prims (primitives listed per non-empty cell, every primitive of
- * a listed cluster), refs_per_prim (those over the scene's primitives),
- * res_x = res_y = res. The bunny (75k triangles) at the defaults: 2048
- * clusters, 786k cells, about 34M list entries (some 280 MB), 5.6 s.
+ * Memory (memory() counts it, plus the fallback's and the light buffer's):
+ * rc_obj 24 bytes a cluster; ids and prim_obj 4 bytes a primitive; rc_cell
+ * 8 bytes, 6 res^2 a cluster, cell (f, i, j) of cluster k at
+ * (6k + f) res^2 + j res + i; rc_ref 8 bytes (cluster, d); the quadtree,
+ * 56 bytes a node, 2 x 6 res^2 - 6 nodes.
  *
- * Tolerances. Sphere radii are computed in double, rounded up to float and
- * grown by `margin` = 1e-6 x the scene box's diagonal + 4e-6 x its largest
- * coordinate magnitude (spawned origins sit a few ulps off their surface,
- * pbrt-v4's offset, and hit points of a primitive are rounded), then by
- * another margin for the cones: a query accepts an origin within r +
- * margin of its cluster's centre, the cones use r + 2 margin, so the
- * double/float rounding of the acceptance test never admits an origin
- * outside the spheres the cones were built for. Cells are grown by 1e-3 in
- * u and v (the float u-v of a query direction is within a few ulps of the
- * true one) and every cone test by 1e-6 radians more. d is computed from
- * the grown radii in double, times (1 - 1e-6), rounded down to float; the
- * stop test compares it with t |dir| (1 + 1e-5); the sphere test grows
- * the radius as the cones do (2 margin), then by 1e-6 relative, and the
- * chord's ends by 1e-6 of |t_closest_approach| + half-chord. Spheres meeting within
- * 1e-9 relative (and A with itself) give the full sphere of directions.
+ * Counters: steps = list entries read; empty_leaves = empty cells read;
+ * box_tests = bounding-sphere tests (spheres=on); fallback and light-buffer
+ * rays count as those accelerators count.
  *
- * Not implemented: the paper's tighter bounds (convex polyhedra around
- * objects instead of spheres), cubes for the eye
+ * Not implemented: convex polyhedral object bounds, a cube for the eye
  * (eye rays use the fallback), non-uniform cell subdivision. */
 #include <math.h>
 #include <stdio.h>

@@ -1,89 +1,42 @@
 /* slabs_kay_kajiya.c: `slabs-kk`, Kay and Kajiya's hierarchy of plane-set
- * volumes with heap-ordered traversal.
+ * volumes with heap-ordered traversal. Reference: docs/accels/kay-kajiya.md.
  *
  * Paper: T. L. Kay, J. T. Kajiya, "Ray Tracing Complex Scenes", SIGGRAPH
- * '86 (Computer Graphics 20(4)), as the survey of J. Arvo and D. Kirk, "A
- * Survey of Ray Tracing Acceleration Techniques" (1989), describes it in
- * s4 (the distance interval, figure 4), s4.3 and s4.4 (plane sets, slabs,
- * nested volumes) and figure 9 (Hull_Sort_Intersect):
- *   - a bounding volume is the intersection of slabs over a FIXED set of
- *     plane-set normals, the same for every object, so the ray's part of
- *     each slab test is computed once per ray and each slab then costs two
- *     subtractions, two multiplications and a comparison
- *     (accel/common/planeset.h: the normals, the per-ray constants and the
- *     conservative test);
- *   - an object's slab is the min and max of N . x over it (vertices for
- *     polygons; Kay and Kajiya used Lagrange multipliers for quadrics: here
- *     prims/ prim_extent, exact for spheres and for cones over their rims);
- *     a parent's slab is the min of its children's los and the max of their
- *     his (s4.4);
- *   - the traversal keeps the candidates (volumes the ray meets) in a heap
- *     keyed by "estimated distance", the distance at which the ray enters
- *     the volume, always expands the nearest, and stops when the nearest
- *     candidate lies beyond the closest hit found (figure 9).
+ * '86, as the Arvo-Kirk survey (1989) describes it in s4 (the distance
+ * interval, figure 4), s4.3-4.4 (plane sets, slabs, nested volumes) and
+ * figure 9 (Hull_Sort_Intersect):
+ *   - a volume is the intersection of slabs over a FIXED set of normals
+ *     (3: the axes; 7: axes and cube diagonals), so the ray's part of each
+ *     slab test is computed once per ray (accel/common/planeset.h);
+ *   - an object's slab is the range of N . x over it (prims/ prim_extent);
+ *     a parent's slab spans its children's (s4.4);
+ *   - the heap walk keeps the volumes the ray meets keyed by entry
+ *     distance, expands the nearest, and stops when it lies beyond the
+ *     closest hit (figure 9).
+ * The tree's shape comes from the BVH kit over the primitives' boxes
+ * (median | gs | sah); only its volumes are Kay and Kajiya's.
  *
- * Parameters (defaults):
- *   normals=7       3: the axes (the volume is an AABB) | 7: the axes and
- *                   the four cube diagonals, as Kay and Kajiya used.
- *   tree=median     the hierarchy, built by the kit over the primitives'
- *                   boxes (accel/bvh/): median (bvh_build_median, object
- *                   median cuts on the longest centroid axis: Kay and
- *                   Kajiya built theirs by median cuts; the survey does not
- *                   say how they chose the axis) | gs (bvh_build_insert,
- *                   Goldsmith-Salmon insertion in id order) | sah
- *                   (bvh_build_sah, binned SAH). The slab volumes are then
- *                   computed bottom-up from the primitives' extents, so the
- *                   tree's shape comes from boxes and only its volumes are
- *                   Kay and Kajiya's.
- *   traverse=heap   heap (figure 9) | dfs: depth-first, the nearer child
- *                   first, the farther stacked with its entry distance and
- *                   dropped on pop when a closer hit is known (the kit's
- *                   BVH order), to show what the global sort buys.
- *   maxleaf=1       primitives a leaf may hold (median and sah; gs always
- *                   makes leaves of one), 1..16: 1 is Kay and Kajiya's
- *                   (every object has its own volume, tested before the
- *                   object and sorted in the heap with the others).
- *   memcap=4096     MiB: refuse a build whose nodes and build scratch
- *                   would pass it (estimated before allocating).
- * Shadow (any-hit) queries use the same traversal and end at the first
- * occluder.
+ * Nodes: binary, slab[k] = {lo, hi} per normal, then index and count: 32
+ * bytes with 3 normals, 64 with 7 (one cache line, 64-byte aligned array).
+ * count == 0: interior, children nodes[index], nodes[index + 1]; else a
+ * leaf of refs[index .. index + count). Depth-first, siblings adjacent.
+ * memory(): the object, 2 leaves - 1 nodes, 4 bytes a primitive of refs.
+ * Per thread (bvh_scratch): the stack (8 bytes a level) and the heap
+ * (8 bytes an entry, grown by doubling).
  *
- * Nodes: a binary tree, 32 bytes a node with 3 normals, 64 with 7 (one
- * cache line; the array is 64-byte aligned): slab[k] = {lo, hi} along
- * normal k (4 bytes each), index (4), count (4). count == 0: interior,
- * children nodes[index] and nodes[index + 1]; count > 0: a leaf holding the
- * primitives refs[index .. index + count).
- * Memory layout (memory() counts it): the accelerator object (72 bytes),
- * nnodes = 2 leaves - 1 nodes in depth-first order with siblings
- * adjacent (children always after their parent), refs: 4 bytes per
- * primitive (each in exactly one leaf). With maxleaf=1 that is 2n - 1
- * nodes: about 68 bytes a primitive with 3 normals, 132 with 7.
- * Per thread (context, not in memory()): the depth-first stack (8 bytes a
- * level) and the heap (8 bytes an entry, grown by doubling when full),
- * accel/bvh/bvh.h's bvh_scratch. Build scratch, freed before build()
- * returns: the primitives' boxes (24 bytes each) and extents (8 bytes per
- * normal each), the kit's BVH (32 bytes a node) and a renumbering stack.
+ * Invariants: every slab test is conservative (never rejects a volume the
+ * ray meets); children come after their parent; each primitive is in
+ * exactly one leaf. If the heap cannot grow, the walk finishes by testing
+ * every leaf whose volume the ray meets, so the answer stays exact.
  *
- * Counters (accel.h): box_tests = slab volumes tested (the root once per
- * ray, then both children of every interior node expanded; every leaf of
- * the fallback scan below); steps = nodes expanded (a candidate popped and
- * dropped by the stopping rule is not a step); prim_tests and prim_hits by
- * prims/. No empty leaves, no mailboxes. intersect_fast/occluded_fast are
- * the same walks compiled without counting (accel/common/prim_test.h's
- * pattern). Statistics (bvh_stats): nodes (interior), leaves, max_depth,
- * avg_leaf_prims, refs_per_prim.
+ * Counters: box_tests = volumes tested (root once, both children of each
+ * node expanded); steps = nodes expanded (a candidate dropped by the stop
+ * rule is not one); no empty leaves, no mailboxes. The walks are
+ * accel/bvh/walk.h's, compiled per normal count; intersect_fast /
+ * occluded_fast are the same walks without counters.
  *
- * The walks are the kit's (accel/bvh/walk.h: the same depth-first and heap
- * walks as the box BVH's), given this layout's volume test, planeset_clip,
- * and compiled per normal count. Heap and stack overflow: the heap grows
- * on demand; if that allocation fails (or a stack were shallower than the
- * tree, which the context's is not) the walk finishes by testing every
- * leaf whose volume the ray meets, so the answer stays exact.
- *
- * Not implemented: Kay and Kajiya's own choice of cut axis and their
- * arbitrary branching factor (the kit's trees are binary), per-object
- * choice of normals (the survey's point: one fixed set is what makes the
- * per-ray factoring possible). */
+ * Not implemented: Kay and Kajiya's own cut axis and arbitrary branching
+ * factor (the kit's trees are binary), per-object choice of normals. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,6 +1,7 @@
 /* main.c: the accelbench program: subcommand dispatch and `list`.
  *
  *   accelbench list [accels|scenes|workloads]
+ *   accelbench list accels --markdown               parameter tables for docs/accels/
  *   accelbench run     --scenes L --accels L --workloads L [...]   benchmark matrix -> CSV + plots
  *   accelbench merge   DIR... --out DIR                          shard folders of run --shard K/N -> one CSV
  *   accelbench verify  --scenes L --accels L --workloads L [...]   agreement with Embree
@@ -28,6 +29,7 @@ static void usage(FILE *out)
             "\n"
             "usage: accelbench COMMAND [options]   (accelbench COMMAND --help for its options)\n"
             "  list [accels|scenes|workloads]   names, summaries, parameters with defaults\n"
+            "           (list accels --markdown: each parameter table as Markdown, for docs/accels/)\n"
             "  run      benchmark matrix: scenes x accels x workloads -> DIR/matrix.csv and plots\n"
             "  merge    DIR... --out DIR: the folders of run --shard K/N into one matrix.csv, every cell once\n"
             "  verify   every ray's answer against Embree; mismatches classified and replayable\n"
@@ -56,6 +58,45 @@ static void list_accels(void)
     }
 }
 
+/* One Markdown table cell: '|' escaped, an empty value shown as such. */
+static void md_cell(const char *s, bool code)
+{
+    if (!*s) {
+        fputs(" (empty) |", stdout);
+        return;
+    }
+    fputs(code ? " `" : " ", stdout);
+    for (; *s; s++) {
+        if (*s == '|') putchar('\\');
+        putchar(*s);
+    }
+    fputs(code ? "` |" : " |", stdout);
+}
+
+/* `list accels --markdown`: per accelerator, its parameter table as Markdown
+ * between the marker comments docs/accels/ pages hold it in; the table's
+ * fields as they are. tests/test_docs_params.sh compares the pages with it and
+ * scripts/docs-params.sh rewrites them from it. */
+static void list_accels_markdown(void)
+{
+    for (int i = 0; accel_registry[i]; i++) {
+        const struct accel_ops *a = accel_registry[i];
+        printf("<!-- params:%s begin -->\n", a->name);
+        if (!a->params[0].name) printf("`%s` takes no parameters.\n", a->name);
+        else {
+            printf("| key | default | help |\n|---|---|---|\n");
+            for (int k = 0; a->params[k].name; k++) {
+                putchar('|');
+                md_cell(a->params[k].name, true);
+                md_cell(a->params[k].default_value, true);
+                md_cell(a->params[k].help, false);
+                putchar('\n');
+            }
+        }
+        printf("<!-- params:%s end -->\n", a->name);
+    }
+}
+
 static void list_workloads(void)
 {
     printf("workloads (--workloads; image size --res WxH, --spp N, --corners, --depth N, --seed S):\n");
@@ -68,8 +109,17 @@ static int cmd_list(int argc, char **argv)
 {
     const char *what = argc > 1 ? argv[1] : "all";
     if (strcmp(what, "--help") == 0 || strcmp(what, "-h") == 0) {
-        printf("usage: accelbench list [accels|scenes|workloads]\n");
+        printf("usage: accelbench list [accels|scenes|workloads]\n"
+               "       accelbench list accels --markdown   parameter tables as Markdown (docs/accels/)\n");
         return 0;
+    }
+    if (!strcmp(what, "accels") && argc > 2) {
+        if (argc == 3 && !strcmp(argv[2], "--markdown")) {
+            list_accels_markdown();
+            return 0;
+        }
+        fprintf(stderr, "accelbench list accels: unknown option '%s' (--markdown)\n", argv[2]);
+        return 2;
     }
     bool all = strcmp(what, "all") == 0;
     if (!all && strcmp(what, "accels") && strcmp(what, "scenes") && strcmp(what, "workloads")) {

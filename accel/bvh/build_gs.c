@@ -15,8 +15,7 @@
  * The paper itself is not at hand; the three ways to place an object at a
  * node and what each adds to the cost are as Haines retells the paper
  * ("Automatic Creation of Object Hierarchies for Ray Tracing", Ray Tracing
- * News, an explanation of the May '87 paper, found through the `search`
- * tool, pages corpus, in a huggingface copy of RTN text), as a course page
+ * News, an explanation of the May '87 paper), as a course page
  * summarises it ("Goldsmith Salmon Bounding hierarchies",
  * geocities.ws/prizmaweb/raytrace/298page2.html: "Method 1 ... cost
  * difference = 2 P(BV); Method 2 ... (P(BV') - P(BV)) k + P(BV'); Method

@@ -6,25 +6,13 @@
  * (wide_traverse_*.c on the one walk of wide_walk.h) and their dispatch
  * (wide_isa.c).
  *
- * Literature:
- *   - the binary tree is the kit's binned SAH build (build_sah.c: MacDonald
- *     and Booth, The Visual Computer 6(3), 1990; Wald, IEEE RT 2007);
- *   - wide nodes that test all their children's boxes at once with SIMD
- *     instructions: Dammertz, Hanika, Keller, "Shallow Bounding Volume
- *     Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR 2008
- *     (QBVH: 4 children, boxes in SoA, ordered traversal), Ernst and
- *     Greiner, "Multi Bounding Volume Hierarchies", IEEE RT 2008 (MBVH, the
- *     collapse of a binary SAH tree), and Wald, Benthin, Boulos, "Getting
- *     Rid of Packets", IEEE RT 2008 (single rays against 4-wide nodes);
- *   - the collapse rule (open the child of largest surface area until the
- *     node is full or only leaves remain) is the greedy one these papers
- *     describe;
- *   - robust box tests: Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013,
- *     as accel/common/slab.h applies it (far distances scaled by
- *     SLAB_FAR_SCALE, folded into the ray's far reciprocals: wide_walk.h),
- *     with the near and far planes chosen by the sign of
- *     the reciprocal direction (Williams et al., JGT 10(1), 2005), so +-0
- *     direction components are right with no branch.
+ * Literature (docs/accels/wide-bvh.md has the full citations): the kit's
+ * binned SAH tree (build_sah.c); wide SoA nodes tested with SIMD and the
+ * greedy collapse (open the child of largest area until the node is full)
+ * of Dammertz et al. (EGSR 2008), Ernst and Greiner and Wald et al. (IEEE
+ * RT 2008); Ize's robust box test (JCGT 2013) as accel/common/slab.h
+ * applies it, near and far planes chosen by the sign of the reciprocal
+ * (Williams et al., JGT 2005), so +-0 components need no branch.
  *
  * Node layouts (W = 2, 4 or 8 children; sizes asserted below):
  *   box[6][W]  floats, one row per plane, W children side by side (SoA):
@@ -41,15 +29,10 @@
  *   order[4]   the slots front to back for rays of each octant with x >= 0
  *              (WIDE_ORDER), 3 bits a position in a uint8 (W=2), uint16
  *              (W=4) or uint32 (W=8), in the last 2W bytes of the node: the
- *              used slots sorted by the centres of their boxes projected on
- *              the octant's diagonal (nearest first, ties by slot), then the
- *              unused ones. The closest-hit walk takes the children it hits
- *              in this order (`order=octant`) instead of sorting them by
- *              entry distance (`order=distance`): the order of Ylitie,
- *              Karras and Laine, "Efficient Incoherent Ray Traversal on
- *              GPUs Through Compressed Wide BVHs", HPG 2017, section 3.2,
- *              which assigns the children to slots by octant; here a
- *              permutation per octant leaves the slots as they are.
+ *              used slots sorted by their box centres projected on the
+ *              octant's diagonal (nearest first, ties by slot), then the
+ *              unused ones; `order=octant` walks them (Ylitie, Karras,
+ *              Laine, HPG 2017, s3.2, as a permutation per octant).
  *   BVH2: 2*6*4 + 2*4 + 2 + 1 + 1 + 4 = 64 bytes (1 line);
  *   BVH4: 4*6*4 + 4*4 + 4 + 1 + 3 + 8 = 128 bytes (2 lines);
  *   BVH8: 8*6*4 + 8*4 + 8 + 1 + 7 + 16 = 256 bytes (4 lines).

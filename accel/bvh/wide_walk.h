@@ -16,7 +16,7 @@
  * entry distance (ties by slot: the order is a function of the distances
  * alone, so every kernel that computes the same distances walks the same
  * way; an any-hit query takes them in slot order unsorted, as Embree's
- * any-hit traversal does: measured here 5-15 % faster on shadow rays),
+ * any-hit traversal does; docs/accels/wide-bvh.md has the measurement),
  * push them farthest first, pop the nearest (the nearest, when
  * interior, is visited at once without the push and pop). With
  * order=octant (w->octant_order) the closest-hit walk takes the children
@@ -157,11 +157,9 @@ WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray, const bool F)
     r->backwards = r->near[0] & 1;
     r->oct = ((r->near[1] & 1) | (r->near[2] & 1) << 1) ^ (r->backwards ? 3u : 0u);
     /* The packet tests' shear, set up here once per ray (prim_*_tris set it
-     * up per leaf). Set up instead at the ray's first packed leaf, the walk
-     * measured 2-5 % slower on Sponza's and the bunny's rays, even with the
-     * set-up out of line; here it costs the rays that meet no leaf
-     * (random rays on spd:balls:4:t, 0.6 triangle tests a ray: 1.15-1.2x
-     * their time before). */
+     * up per leaf), not lazily at the first packed leaf, which is slower on
+     * most rays; it costs the rays that meet no leaf (docs/accels/
+     * wide-bvh.md, Measured). */
     r->sheared = ray_shear(d, &r->shear);
     if (F) wide_fused_init(r, org, dir);
     r->t0 = ray->tnear > -FLT_MAX ? ray->tnear : -FLT_MAX; /* rayset.c refuses NaN tnear and tfar */
@@ -263,10 +261,8 @@ WIDE_FN uint32_t wide_push_octant(const wide_ray *r, const char *node, unsigned 
 
 /* A child about to be pushed, fetched while the nodes and leaves before
  * it are visited: an interior child's box rows (its cache lines), a packed
- * leaf's first packet (perf found a quarter of the packet test's time on
- * its first load). Measured on the bunny, 3 x 11 pairs on a loaded
- * machine: median ratios 1.18/1.48/1.67 against 1.26/1.57/1.67 without
- * (primary/shadow/random), a small gain at most. */
+ * leaf's first packet (whose first load takes a large share of the packet
+ * test's time). A small gain at most (docs/accels/wide-bvh.md, Measured). */
 WIDE_FN void wide_prefetch(const wide_bvh *w, uint32_t ch, const uint32_t W, const bool Q)
 {
     if (!(ch & WIDE_LEAF)) {
