@@ -2,19 +2,36 @@
 """Plot an accelbench results CSV as PNG figures (written next to the CSV).
 
 Per scene (name made file-safe: ':' '/' etc. -> '_'):
-  <scene>__mrays.png      Mrays/s per workload x accelerator, min-max error bars
+  <scene>__ratio.png      the headline: paired ratio to Embree (ratio_vs_embree)
+                          per workload x accelerator, ratio_min-ratio_max bars
+  <scene>__mrays.png      Mrays/s per workload x accelerator, min-max error bars;
+                          the legend gives each accelerator's threads (one for
+                          those that mutate while tracing)
   <scene>__tests.png      tests_per_ray (+ steps_per_ray panel if any nonzero);
                           accelerators with empty counters (embree) omitted
   <scene>__build_mem.png  build_ms and bytes_per_prim per accelerator
 Once per file:
   overview__ratio.png     ratio_vs_embree, geometric mean over workloads,
                           scene x accelerator heat map (>1 = slower than Embree)
+  overview__ratio__<workload>.png   the same heat map of one workload's cells
+  sweep__<accel>__<key>.png         (__2, __3 for further groups) instances of
+                          one accelerator differing in one parameter: the
+                          parameter on x, the paired ratio (min-max) on y, a
+                          line per scene, a panel per workload
+  params.csv              the parameters in columns: one row per configuration
+                          and parameter (label, accel, threads, params, key,
+                          value, default: yes/no, empty when unknown)
+  summary.md              scripts/summary.py's Markdown (the findings first),
+                          unless a summary.md of another writer is there
 
-Bars are labelled "accel", or "accel[params]" with the parameters that
-differ from the defaults (read from `$ACCELBENCH list accels`; run sets
-$ACCELBENCH), or without it when an accel has several params strings in
-the file (keys shared by all of them dropped), plus
-"@<n>t" when it ran with several thread counts. Rows with fewer fields than
+Labels: the default instance of an accelerator is its name alone ("grid"),
+another "grid[res=cubic:20]" with the parameters that differ from the
+defaults, read from `accelbench list accels` (--accelbench BIN, else
+$ACCELBENCH, which run sets, else the source tree's build/accelbench). When
+no binary runs, an accelerator with several params strings in the file shows
+the pairs not shared by all of them (the one with none extra: its name
+alone). "@<n>t" is added when one configuration ran with several thread
+counts. Rows with fewer fields than
 the header (interrupted run) are skipped with a warning. A cell measured
 more than once (rows of one cell_key; in files without that column, of one
 scene, accel, params, workload, threads and rayset_hash) is plotted from its
@@ -147,9 +164,10 @@ def split_params(params):
 
 
 def short_params(params, siblings, limit=MAX_PARAMS):
-    """Params minus the key=value pairs shared by all siblings, cut to limit characters (None: not cut)."""
+    """Params minus the key=value pairs shared by all siblings, cut to limit characters (None: not cut); ""
+    when every pair is shared (the instance the others add to: labelled by its name alone)."""
     common = set.intersection(*(set(split_params(p)) for p in siblings))
-    text = ",".join(p for p in split_params(params) if p not in common) or params or "-"
+    text = ",".join(p for p in split_params(params) if p not in common)
     return text if limit is None or len(text) <= limit else text[:limit - 1] + "…"
 
 
@@ -218,7 +236,8 @@ def config_labels(rows, limit=MAX_PARAMS, defaults=None):
         if label is None:
             label = accel
             if len(params_of[accel]) > 1:
-                label += f"[{short_params(params, params_of[accel], limit)}]"
+                diff = short_params(params, params_of[accel], limit)
+                label += f"[{diff}]" if diff else ""
         if len(threads_of[(accel, params)]) > 1:
             label += f"@{threads}t"
         while label in labels.values():
@@ -629,6 +648,10 @@ def main(argv=None):
     check_replaceable(path)
     findings.write_params_csv(path, findings.params_table(rows, labels, config_key, split_params, defaults))
     written.append(path)
+    import summary
+    path = summary.write_beside(args.csv, out, args.accelbench)
+    if path:
+        written.append(path)
     if not args.quiet:
         print("\n".join(written))
     return 0

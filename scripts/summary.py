@@ -1,8 +1,17 @@
 #!/usr/bin/python3
 """Summarise an accelbench matrix.csv as Markdown tables (stdout, or --out FILE).
 
-For every accelerator configuration (labelled as plot.py labels them: accel,
-or accel[params that differ]) over every scene of the file:
+First the findings (scripts/findings.py, the same code and numbers as the
+HTML report's): per workload, every configuration ranked by the geometric
+mean of its paired ratio to Embree with a 95 % interval and its number of
+cells; per scene and workload the fastest configuration and the fastest of
+the survey's structures, ties marked; one line per accelerator family.
+
+Then, for every accelerator configuration (labelled as plot.py labels them:
+the name alone for the default instance, name[the parameters that differ
+from the defaults] for another; the defaults come from `accelbench list
+accels` of --accelbench, $ACCELBENCH or the source tree's build) over every
+scene of the file:
   - one table per workload: per scene, each configuration's ratio to Embree
     (the paired median, ratio_vs_embree: >1 is slower than Embree) and, in
     a last column, the configuration with the lowest ratio (the winner);
@@ -34,6 +43,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot as common  # noqa: E402
+import findings  # noqa: E402
 
 PROG = "summary.py"
 REQUIRED = ("scene", "accel", "params", "workload", "threads", "ratio_vs_embree", "mrays_per_s", "tests_per_ray",
@@ -121,18 +131,49 @@ def predicted_tables(rows, labels, scenes, workloads):
     return out
 
 
+def written_by_us(path):
+    """Whether path is absent or a summary.py summary (its first line "# Summary of"), so it may be rewritten."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            return f.readline().startswith("# Summary of")
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+
+
+def write_beside(csv_path, folder=None, accelbench=None):
+    """summary.md in folder (default: beside the CSV; plot.py and report.py call this at the end of a run),
+    unless a summary.md there was written by something else (a reproduce or champion run's). Returns its
+    path, or None."""
+    path = os.path.join(folder or os.path.dirname(os.path.abspath(csv_path)), "summary.md")
+    if not written_by_us(path) or not os.access(os.path.dirname(path), os.W_OK):
+        return None
+    prog = common.PROG
+    argv = [csv_path, "--out", path] + (["--accelbench", accelbench] if accelbench else [])
+    try:
+        main(argv)
+    except SystemExit:  # nothing to summarise (no accelerator but embree): no file
+        return None
+    finally:
+        common.PROG = prog
+    return path
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("csv", metavar="CSV", help="matrix.csv written by accelbench run")
     p.add_argument("--out", metavar="FILE", help="write the Markdown here (default: stdout)")
     p.add_argument("--predicted", action="store_true", help="add the cost model's predictions against the measured counters")
+    p.add_argument("--accelbench", metavar="BIN", help="the binary whose `list accels` gives the parameters' defaults "
+                   "(default $ACCELBENCH, else the source tree's build/accelbench)")
     args = p.parse_args(argv)
     common.PROG = PROG
     rows = common.dedup_rows(common.load_rows(args.csv, REQUIRED), args.csv)
     rows = [r for r in rows if r["accel"] != "embree"]
     if not rows:
         common.fail(f"{args.csv}: no rows of an accelerator other than embree")
-    labels = common.config_labels(rows, limit=None)
+    labels = common.config_labels(rows, limit=None, defaults=common.accel_defaults_from_env(args.accelbench))
     configs = list(labels)
     scenes = common.ordered(r["scene"] for r in rows)
     workloads = common.ordered((r["workload"] for r in rows), common.WORKLOAD_ORDER)
@@ -141,6 +182,8 @@ def main(argv=None):
     out.append(f"# Summary of {args.csv}\n")
     out.append("Ratio = the accelerator's time over Embree's on the same rays, the median of samples interleaved "
                "with Embree's (ratio_vs_embree; >1: slower than Embree).\n")
+    out.append(findings.markdown(findings.findings(rows, labels, common.config_key)))
+    out.append("## Every cell\n")
     wins = {c: 0 for c in configs}
     for w in workloads:
         out.append(f"## {w}: ratio to Embree\n")
@@ -175,8 +218,10 @@ def main(argv=None):
         out.extend(predicted_tables(rows, labels, scenes, workloads))
     text = "\n".join(out) + "\n"
     if args.out:
-        with open(args.out, "w") as f:
+        tmp = args.out + ".tmp"
+        with open(tmp, "w", encoding="utf-8") as f:
             f.write(text)
+        os.replace(tmp, args.out)
     else:
         sys.stdout.write(text)
     return 0
