@@ -189,8 +189,14 @@ INTRO = ("Ratio: the accelerator's trace time over Embree's on the same rays, th
          "min-max ratio range overlaps the runner-up's.")
 
 
+NO_RATIO = ("No cell has a ratio to Embree (ratio_vs_embree): the run measured no Embree series to pair with "
+            "(add embree to --accels).")
+
+
 def markdown(f):
     out = ["## Findings", "", INTRO, ""]
+    if not f["workloads"]:
+        return "\n".join(out + [NO_RATIO, ""])
     for w in f["workloads"]:
         out += [f"### Ranking: {w}", "", "| rank | configuration | ratio (geomean) | 95 % interval | n cells |",
                 "|---:|---|---:|---|---:|"]
@@ -210,6 +216,8 @@ def markdown(f):
 def html(f, esc):
     """The findings section of the report; esc escapes text for HTML."""
     out = ['<section id="findings"><h2>Findings</h2>', f'<p class="note">{esc(INTRO)}</p>']
+    if not f["workloads"]:
+        return "\n".join(out + [f"<p>{esc(NO_RATIO)}</p></section>"])
     for w in f["workloads"]:
         out.append(f"<h3>Ranking: {esc(w)}</h3>")
         out.append(f'<div class="scroll" tabindex="0" role="region" aria-label="ranking of {esc(w)}">'

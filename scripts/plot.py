@@ -187,10 +187,12 @@ def parse_accel_defaults(text):
 
 
 def find_accelbench(given=None):
-    """The accelbench binary whose `list accels` gives the parameters' defaults: the one given, else
-    $ACCELBENCH (run sets it), else SOURCE/build/accelbench when it was built there; None when none runs."""
+    """The accelbench binary whose `list accels` gives the parameters' defaults: the one given (None when it
+    does not run), else $ACCELBENCH (run sets it), else SOURCE/build/accelbench when it was built there."""
+    if given is not None:  # a binary named that does not run: no defaults
+        return given if os.path.isfile(given) and os.access(given, os.X_OK) else None
     src = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    for binary in (given, os.environ.get("ACCELBENCH"), os.path.join(src, "build", "accelbench")):
+    for binary in (os.environ.get("ACCELBENCH"), os.path.join(src, "build", "accelbench")):
         if binary and os.path.isfile(binary) and os.access(binary, os.X_OK):
             return binary
     return None
@@ -464,6 +466,7 @@ def plot_overview(rows, labels, scenes, path, written, workload=None):
     over the workloads, or of one workload's rows."""
     if workload is not None:
         rows = [r for r in rows if r["workload"] == workload]
+        scenes = [s for s in scenes if any(r["scene"] == s for r in rows)]
     configs = [c for c in ordered(config_key(r) for r in rows) if c[0] != "embree"]
     total = len(scenes)
     scenes = scenes[:OVERVIEW_MAX_SCENES]
