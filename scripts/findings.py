@@ -218,8 +218,9 @@ def html(f, esc):
     out = ['<section id="findings"><h2>Findings</h2>', f'<p class="note">{esc(INTRO)}</p>']
     if not f["workloads"]:
         return "\n".join(out + [f"<p>{esc(NO_RATIO)}</p></section>"])
+    out.append('<div class="ranks">')
     for w in f["workloads"]:
-        out.append(f"<h3>Ranking: {esc(w)}</h3>")
+        out.append(f"<div><h3>Ranking: {esc(w)}</h3>")
         out.append(f'<div class="scroll" tabindex="0" role="region" aria-label="ranking of {esc(w)}">'
                    f'<table class="rank" data-workload="{esc(w)}"><thead><tr><th>rank</th><th class="t">configuration'
                    '</th><th>ratio (geomean)</th><th>95 % interval</th><th>n cells</th></tr></thead><tbody>')
@@ -227,7 +228,8 @@ def html(f, esc):
             out.append(f'<tr data-label="{esc(e["label"])}" data-gm="{e["gm"]!r}" data-n="{e["n"]}"><td>{i}</td>'
                        f'<td class="t">{esc(e["label"])}</td><td class="gm">{number(e["gm"])}</td>'
                        f'<td>{esc(interval_text(e))}</td><td class="n">{e["n"]}</td></tr>')
-        out.append("</tbody></table></div>")
+        out.append("</tbody></table></div></div>")
+    out.append("</div>")
     out.append("<h3>Winners per scene and workload</h3>")
     out.append('<p class="note">Each cell: the fastest configuration and its ratio; below it, the fastest of the '
                "survey's structures. <b>tie</b>: the winner's min-max range overlaps the runner-up's.</p>")

@@ -252,6 +252,7 @@ th button{font:inherit;font-weight:600;background:none;border:0;padding:.15rem 0
 th button:focus{outline:2px solid #1a5fb4}
 th[aria-sort=ascending] button::after{content:" \\25B2"}th[aria-sort=descending] button::after{content:" \\25BC"}
 .figs{display:flex;flex-wrap:wrap;gap:.8rem}
+.ranks{display:flex;flex-wrap:wrap;gap:0 1.2rem;align-items:flex-start}.ranks>div{max-width:100%;min-width:0}
 img.plot{max-width:100%;height:auto;border:1px solid #eee}
 .heat{display:flex;flex-wrap:wrap;gap:.6rem;align-items:flex-start}
 .heat figure{margin:0;text-align:center;font-size:12px}
