@@ -192,7 +192,8 @@ def find_accelbench(given=None):
     if given is not None:  # a binary named that does not run: no defaults
         return given if os.path.isfile(given) and os.access(given, os.X_OK) else None
     src = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    for binary in (os.environ.get("ACCELBENCH"), os.path.join(src, "build", "accelbench")):
+    for binary in (os.environ.get("ACCELBENCH"), os.path.join(src, "build", "harness", "accelbench"),
+                   os.path.join(src, "build", "accelbench")):
         if binary and os.path.isfile(binary) and os.access(binary, os.X_OK):
             return binary
     return None
