@@ -82,9 +82,11 @@ refused "no such folder $T/nodir" -- "$AB" report "$T/two" --out "$T/nodir/r.htm
 refused "unexpected argument" -- "$AB" report "$T/two" "$T/empty"
 refused "option of run" -- "$AB" verify $S --report
 expect 0 "wrote $T/two/report.html" -- "$AB" report "$T/two" --pictures off
-# the report step writes summary.md beside the CSV; without Embree in the run there is no ratio to find
-grep -q "^## Findings" "$T/two/summary.md" && grep -q "no Embree series" "$T/two/summary.md" && ok \
-    || bad "report: summary.md without its findings or the note of no Embree"
+# the report step writes summary.md beside the CSV: the findings rank both instances, labelled by the rule
+# (the default instance by its name alone), each of one cell
+grep -q "^## Findings" "$T/two/summary.md" && grep -Eq "^\| [12] \| grid \| [0-9.e+-]+ \| n = 1: none \| 1 \|$" "$T/two/summary.md" \
+    && grep -Eq "^\| [12] \| grid\[res=4x4x4\] \| " "$T/two/summary.md" && ok \
+    || bad "report: summary.md without its findings ranking grid and grid[res=4x4x4]"
 expect 0 "wrote $T/r.html" -- "$AB" report "$T/two" --out "$T/r.html"
 # one table row per CSV row, images inline, nothing fetched from elsewhere, alt text on every image
 page_check() { # PAGE CSV
