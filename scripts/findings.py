@@ -189,8 +189,7 @@ INTRO = ("Ratio: the accelerator's trace time over Embree's on the same rays, th
          "min-max ratio range overlaps the runner-up's.")
 
 
-NO_RATIO = ("No cell has a ratio to Embree (ratio_vs_embree): the run measured no Embree series to pair with "
-            "(add embree to --accels).")
+NO_RATIO = "No cell has a ratio to Embree: ratio_vs_embree is empty in every row."
 
 
 def markdown(f):
