@@ -105,7 +105,7 @@ def predicted_tables(rows, labels, scenes, workloads):
     if rows and "predicted_tests_per_ray" not in rows[0]:
         common.fail("the CSV has no predicted_tests_per_ray column (written by accelbench since bvh-gs)")
     rows = [r for r in rows if num(r.get("predicted_tests_per_ray", "")) is not None]
-    out = ["## Cost model: predicted against measured (measured / predicted)\n",
+    out = [PREDICTED_HEADING + " (measured / predicted)\n",
            "The prediction is eq. (3) of the survey with surface-area conditional probabilities, made for rays "
            "that start outside the root volume and cross it (Goldsmith and Salmon's primary rays): a ratio "
            "near 1 is where it holds.\n"]
@@ -142,6 +142,18 @@ def written_by_us(path):
         return False
 
 
+PREDICTED_HEADING = "## Cost model: predicted against measured"
+
+
+def had_predicted(path):
+    """Whether the summary at path was written with --predicted (rewritten, it keeps them)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            return any(line.startswith(PREDICTED_HEADING) for line in f)
+    except OSError:
+        return False
+
+
 def write_beside(csv_path, folder=None, accelbench=None):
     """summary.md in folder (default: beside the CSV; plot.py and report.py call this at the end of a run),
     unless a summary.md there was written by something else (a reproduce or champion run's). Returns its
@@ -150,7 +162,8 @@ def write_beside(csv_path, folder=None, accelbench=None):
     if not written_by_us(path) or not os.access(os.path.dirname(path), os.W_OK):
         return None
     prog = common.PROG
-    argv = [csv_path, "--out", path] + (["--accelbench", accelbench] if accelbench else [])
+    argv = [csv_path, "--out", path] + (["--accelbench", accelbench] if accelbench else []) + (
+        ["--predicted"] if had_predicted(path) else [])
     try:
         main(argv)
     except SystemExit:  # nothing to summarise (no accelerator but embree): no file

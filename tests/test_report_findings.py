@@ -222,5 +222,19 @@ got = list(csv.DictReader(open(os.path.join(out, "params.csv"))))
 check(len(got) == 2 * 2 + 1 + 1 + 1 + 1 and set(got[0]) == set(findings.PARAMS_COLUMNS), f"params.csv: {got[:2]}")
 check(md_rankings(open(os.path.join(out, "summary.md")).read()) == mr, "plot.py's summary.md differs from summary.py's")
 
+# --- a summary.md of another writer (a champion run's) is left alone; summary.py's own is rewritten
+other = os.path.join(tmp, "other")
+os.makedirs(other)
+with open(os.path.join(other, "matrix.csv"), "w") as f:
+    f.write(open(path).read())
+with open(os.path.join(other, "summary.md"), "w") as f:
+    f.write("# Issue 13's targets\n")
+check(summary.write_beside(os.path.join(other, "matrix.csv")) is None
+      and open(os.path.join(other, "summary.md")).read() == "# Issue 13's targets\n", "a foreign summary.md was replaced")
+with open(os.path.join(other, "summary.md"), "w") as f:
+    f.write("# Summary of an older run\n")
+check(summary.write_beside(os.path.join(other, "matrix.csv")) is not None
+      and "## Findings" in open(os.path.join(other, "summary.md")).read(), "summary.py's own summary.md not rewritten")
+
 print(f"{passed} passed, {failed} failed")
 sys.exit(1 if failed else 0)
