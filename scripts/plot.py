@@ -2,19 +2,36 @@
 """Plot an accelbench results CSV as PNG figures (written next to the CSV).
 
 Per scene (name made file-safe: ':' '/' etc. -> '_'):
-  <scene>__mrays.png      Mrays/s per workload x accelerator, min-max error bars
+  <scene>__ratio.png      the headline: paired ratio to Embree (ratio_vs_embree)
+                          per workload x accelerator, ratio_min-ratio_max bars
+  <scene>__mrays.png      Mrays/s per workload x accelerator, min-max error bars;
+                          the legend gives each accelerator's threads (one for
+                          those that mutate while tracing)
   <scene>__tests.png      tests_per_ray (+ steps_per_ray panel if any nonzero);
                           accelerators with empty counters (embree) omitted
   <scene>__build_mem.png  build_ms and bytes_per_prim per accelerator
 Once per file:
   overview__ratio.png     ratio_vs_embree, geometric mean over workloads,
                           scene x accelerator heat map (>1 = slower than Embree)
+  overview__ratio__<workload>.png   the same heat map of one workload's cells
+  sweep__<accel>__<key>.png         (__2, __3 for further groups) instances of
+                          one accelerator differing in one parameter: the
+                          parameter on x, the paired ratio (min-max) on y, a
+                          line per scene, a panel per workload
+  params.csv              the parameters in columns: one row per configuration
+                          and parameter (label, accel, threads, params, key,
+                          value, default: yes/no, empty when unknown)
+  summary.md              scripts/summary.py's Markdown (the findings first),
+                          unless a summary.md of another writer is there
 
-Bars are labelled "accel", or "accel[params]" with the parameters that
-differ from the defaults (read from `$ACCELBENCH list accels`; run sets
-$ACCELBENCH), or without it when an accel has several params strings in
-the file (keys shared by all of them dropped), plus
-"@<n>t" when it ran with several thread counts. Rows with fewer fields than
+Labels: the default instance of an accelerator is its name alone ("grid"),
+another "grid[res=cubic:20]" with the parameters that differ from the
+defaults, read from `accelbench list accels` (--accelbench BIN, else
+$ACCELBENCH, which run sets, else the source tree's build/accelbench). When
+no binary runs, an accelerator with several params strings in the file shows
+the pairs not shared by all of them (the one with none extra: its name
+alone). "@<n>t" is added when one configuration ran with several thread
+counts. Rows with fewer fields than
 the header (interrupted run) are skipped with a warning. A cell measured
 more than once (rows of one cell_key; in files without that column, of one
 scene, accel, params, workload, threads and rayset_hash) is plotted from its
@@ -147,9 +164,10 @@ def split_params(params):
 
 
 def short_params(params, siblings, limit=MAX_PARAMS):
-    """Params minus the key=value pairs shared by all siblings, cut to limit characters (None: not cut)."""
+    """Params minus the key=value pairs shared by all siblings, cut to limit characters (None: not cut); ""
+    when every pair is shared (the instance the others add to: labelled by its name alone)."""
     common = set.intersection(*(set(split_params(p)) for p in siblings))
-    text = ",".join(p for p in split_params(params) if p not in common) or params or "-"
+    text = ",".join(p for p in split_params(params) if p not in common)
     return text if limit is None or len(text) <= limit else text[:limit - 1] + "…"
 
 
@@ -168,10 +186,23 @@ def parse_accel_defaults(text):
     return defaults
 
 
-def accel_defaults_from_env():
-    """The parameters' defaults from the accelbench binary named by $ACCELBENCH (run sets it), else {}."""
-    binary = os.environ.get("ACCELBENCH")
-    if not binary or not os.access(binary, os.X_OK):
+def find_accelbench(given=None):
+    """The accelbench binary whose `list accels` gives the parameters' defaults: the one given (None when it
+    does not run), else $ACCELBENCH (run sets it), else SOURCE/build/accelbench when it was built there."""
+    if given is not None:  # a binary named that does not run: no defaults
+        return given if os.path.isfile(given) and os.access(given, os.X_OK) else None
+    src = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    for binary in (os.environ.get("ACCELBENCH"), os.path.join(src, "build", "harness", "accelbench"),
+                   os.path.join(src, "build", "accelbench")):
+        if binary and os.path.isfile(binary) and os.access(binary, os.X_OK):
+            return binary
+    return None
+
+
+def accel_defaults_from_env(given=None):
+    """The parameters' defaults from find_accelbench(given), else {} (labels then fall back, config_labels)."""
+    binary = find_accelbench(given)
+    if not binary:
         return {}
     import subprocess
     try:
@@ -208,7 +239,8 @@ def config_labels(rows, limit=MAX_PARAMS, defaults=None):
         if label is None:
             label = accel
             if len(params_of[accel]) > 1:
-                label += f"[{short_params(params, params_of[accel], limit)}]"
+                diff = short_params(params, params_of[accel], limit)
+                label += f"[{diff}]" if diff else ""
         if len(threads_of[(accel, params)]) > 1:
             label += f"@{threads}t"
         while label in labels.values():
@@ -271,8 +303,9 @@ def maybe_log(ax, values, axis="y"):
         (ax.set_yscale if axis == "y" else ax.set_xscale)("log")
 
 
-def grouped_bars(ax, table, workloads, configs, labels, errors=None):
-    """Draw one bar group per workload, one bar per config; return values drawn."""
+def grouped_bars(ax, table, workloads, configs, labels, errors=None, legend=None):
+    """Draw one bar group per workload, one bar per config; return values drawn. legend: {config: text}
+    instead of the label."""
     width = 0.8 / max(1, len(configs))
     drawn = []
     for i, cfg in enumerate(configs):
@@ -287,7 +320,7 @@ def grouped_bars(ax, table, workloads, configs, labels, errors=None):
             lo.append(e[0])
             hi.append(e[1])
         drawn += ys
-        ax.bar(xs, ys, width, label=labels[cfg], color=color_of(labels, cfg),
+        ax.bar(xs, ys, width, label=(legend or labels)[cfg], color=color_of(labels, cfg),
                yerr=[lo, hi] if errors else None, capsize=2, error_kw={"lw": 0.8})
     ax.set_xticks(range(len(workloads)), workloads)
     ax.set_xlabel("workload")
@@ -325,9 +358,44 @@ def plot_mrays(scene, rows, labels, workloads, configs, path, written):
         errors[key] = ((max(0.0, v - rays / tmax / 1000.0), max(0.0, rays / tmin / 1000.0 - v))
                        if rays and tmin and tmax else (0.0, 0.0))
     fig, ax = plt.subplots(figsize=(max(10, 1.6 * len(workloads) + 3), 4.8))
-    grouped_bars(ax, table, workloads, configs, labels, errors)
-    ax.set_ylabel("throughput [Mrays/s]")
-    ax.set_title(scene_title(scene, rows, "Ray throughput (median, min–max)"))
+    grouped_bars(ax, table, workloads, configs, labels, errors, legend=threads_legend(rows, labels, configs))
+    ax.set_ylabel("throughput [Mrays/s on the legend's threads]")
+    ax.set_title(scene_title(scene, rows, "Ray throughput (median, min–max; threads per accelerator)"))
+    outside_legend(ax)
+    footer(fig, rows)
+    save(fig, path, written)
+
+
+def threads_legend(rows, labels, configs):
+    """{config: 'label, N threads'}: a rate is only read with the threads it ran on (an accelerator that
+    mutates while tracing runs on one)."""
+    out = {}
+    for c in configs:
+        t = next((r.get("threads", "") for r in rows if config_key(r) == c), "")
+        out[c] = f"{labels[c]}, {t} thread{'' if t == '1' else 's'}" if t else labels[c]
+    return out
+
+
+def plot_ratio(scene, rows, labels, workloads, configs, path, written):
+    """The headline per scene: the paired ratio to Embree per workload x accelerator, min-max error bars."""
+    table, errors = {}, {}
+    for r in rows:
+        if r["accel"] == "embree":
+            continue
+        key = (config_key(r), r["workload"])
+        v, lo, hi = (num(r.get(c)) for c in ("ratio_vs_embree", "ratio_min", "ratio_max"))
+        if v is None or v <= 0 or key in table:
+            continue
+        table[key] = v
+        errors[key] = (max(0.0, v - lo) if lo else 0.0, max(0.0, hi - v) if hi else 0.0)
+    cfgs = [c for c in configs if any(k[0] == c for k in table)]
+    if not cfgs:
+        return
+    fig, ax = plt.subplots(figsize=(max(10, 1.6 * len(workloads) + 3), 4.8))
+    grouped_bars(ax, table, workloads, cfgs, labels, errors)
+    ax.axhline(1.0, color="0.3", lw=0.8, ls="--")
+    ax.set_ylabel("trace time / Embree's, same rays [×]")
+    ax.set_title(scene_title(scene, rows, "Paired ratio to Embree (median, min–max; <1 faster)"))
     outside_legend(ax)
     footer(fig, rows)
     save(fig, path, written)
@@ -394,8 +462,12 @@ def geomean(values):
 OVERVIEW_MAX_SCENES = 300
 
 
-def plot_overview(rows, labels, scenes, path, written):
-    """Heat map of geometric-mean ratio_vs_embree, scene x accelerator (the first OVERVIEW_MAX_SCENES scenes)."""
+def plot_overview(rows, labels, scenes, path, written, workload=None):
+    """Heat map of geometric-mean ratio_vs_embree, scene x accelerator (the first OVERVIEW_MAX_SCENES scenes):
+    over the workloads, or of one workload's rows."""
+    if workload is not None:
+        rows = [r for r in rows if r["workload"] == workload]
+        scenes = [s for s in scenes if any(r["scene"] == s for r in rows)]
     configs = [c for c in ordered(config_key(r) for r in rows) if c[0] != "embree"]
     total = len(scenes)
     scenes = scenes[:OVERVIEW_MAX_SCENES]
@@ -421,17 +493,105 @@ def plot_overview(rows, labels, scenes, path, written):
     ax.set_xlabel("accelerator")
     ax.set_ylabel("scene")
     shown = f"; the first {len(scenes)} of {total} scenes" if total > len(scenes) else ""
+    what = f"workload {workload}" if workload is not None else "geometric mean over workloads"
     ax.set_title("Trace time relative to Embree, same rays\n"
-                 f"(geometric mean over workloads; >1 = slower than Embree{shown})")
+                 f"({what}; >1 = slower than Embree{shown})")
     fig.colorbar(im, ax=ax, label="ratio vs Embree [×]")
     footer(fig, rows)
     save(fig, path, written)
 
 
+def overview_name(workload=None):
+    """overview__ratio.png (over the workloads), overview__ratio__WORKLOAD.png (one)."""
+    return "overview__ratio.png" if workload is None else f"overview__ratio__{safe_name(workload)}.png"
+
+
+def sweep_name(accel, key, index):
+    """sweep__ACCEL__KEY.png, with __2, __3 for further groups of the same accelerator and parameter."""
+    return f"sweep__{safe_name(accel)}__{safe_name(key)}" + (f"__{index + 1}" if index else "") + ".png"
+
+
+def sweep_list(rows):
+    """[(file name, accel, key, [(value, config)])] of the run's sweeps (findings.sweeps)."""
+    import findings
+    out, seen = [], {}
+    for accel, key, members in findings.sweeps(rows, config_key, split_params):
+        i = seen.get((accel, key), 0)
+        seen[(accel, key)] = i + 1
+        out.append((sweep_name(accel, key, i), accel, key, members))
+    return out
+
+
+def plot_sweep(rows, labels, accel, key, members, path, written):
+    """One sweep: the parameter on x, the paired ratio (min-max bars) on y, one line per scene, one panel per
+    workload. A numeric parameter gets a numeric axis (log when it spans > LOG_SPAN), any other its values in
+    the file's order."""
+    vals = [v for v, _ in members]
+    nums = [num(v) for v in vals]
+    numeric = all(x is not None for x in nums)
+    if numeric:
+        order = sorted(range(len(vals)), key=lambda i: nums[i])
+    else:
+        order = list(range(len(vals)))
+    xs = {members[i][1]: (nums[i] if numeric else pos) for pos, i in enumerate(order)}
+    cfgs = [members[i][1] for i in order]
+    srows = [r for r in rows if config_key(r) in xs]
+    workloads = ordered((r["workload"] for r in srows), WORKLOAD_ORDER)
+    scenes = ordered(r["scene"] for r in srows)
+    if not workloads:
+        return
+    ncol = min(3, len(workloads))
+    nrow = math.ceil(len(workloads) / ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.6 * ncol + 2.4, 3.6 * nrow), squeeze=False)
+    drawn = []
+    for ax, w in zip(axes.flat, workloads):
+        for si, s in enumerate(scenes):
+            pts = []
+            for c in cfgs:
+                r = next((r for r in srows if config_key(r) == c and r["scene"] == s and r["workload"] == w), None)
+                v = num(r.get("ratio_vs_embree")) if r else None
+                if v is None or v <= 0:
+                    continue
+                lo, hi = num(r.get("ratio_min")), num(r.get("ratio_max"))
+                pts.append((xs[c], v, v - lo if lo else 0.0, hi - v if hi else 0.0))
+            if not pts:
+                continue
+            drawn += [p[1] for p in pts]
+            ax.errorbar([p[0] for p in pts], [p[1] for p in pts], yerr=[[max(0, p[2]) for p in pts],
+                        [max(0, p[3]) for p in pts]], fmt="o-", ms=3, lw=1, capsize=2, color=f"C{si % 10}", label=s)
+        ax.axhline(1.0, color="0.3", lw=0.8, ls="--")
+        ax.set_title(w, fontsize=10)
+        ax.set_xlabel(key)
+        ax.set_ylabel("ratio to Embree [×] (min–max)")
+        if numeric:
+            maybe_log(ax, list(xs.values()), "x")
+        else:
+            ax.set_xticks(range(len(cfgs)), [vals[i] for i in order], rotation=20)
+        maybe_log(ax, drawn)
+        ax.grid(alpha=0.3, which="both")
+    for ax in list(axes.flat)[len(workloads):]:
+        ax.axis("off")
+    handles = {}
+    for ax in axes.flat:
+        for h, n in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(n, h)
+    fig.legend(list(handles.values()), list(handles), loc="center right", fontsize=8, title="scene")
+    fixed = [kv for kv in split_params(members[0][1][1]) if kv.partition("=")[0] != key]
+    fixed_text = ",".join(fixed)
+    if len(fixed_text) > 90:
+        fixed_text = fixed_text[:89] + "…"
+    fig.suptitle(f"{accel}: {key} swept ({fixed_text or 'no other parameters'})", fontsize=10)
+    fig.tight_layout(rect=(0, 0.03, 1 - 2.2 / (4.6 * ncol + 2.4), 0.95))
+    fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    plt.close(fig)
+    written.append(path)
+
+
 def plot_scene(scene, rows, labels, workloads, base, written):
-    """Write the three per-scene figures to <base>__*.png."""
+    """Write the per-scene figures to <base>__*.png."""
     wls = [w for w in workloads if any(r["workload"] == w for r in rows)]
     cfgs = ordered(config_key(r) for r in rows)
+    plot_ratio(scene, rows, labels, wls, cfgs, base + "__ratio.png", written)
     plot_mrays(scene, rows, labels, wls, cfgs, base + "__mrays.png", written)
     plot_tests(scene, rows, labels, wls, cfgs, base + "__tests.png", written)
     plot_build_mem(scene, rows, labels, cfgs, base + "__build_mem.png", written)
@@ -446,6 +606,9 @@ def parse_args(argv, prog=None, doc=__doc__, required=REQUIRED, csv_help="benchm
     p.add_argument("csv", metavar="CSV", help=csv_help)
     p.add_argument("--out", metavar="DIR", help="output folder (default: the CSV's folder)")
     p.add_argument("--quiet", action="store_true", help="do not list the files written")
+    if prog is None:
+        p.add_argument("--accelbench", metavar="BIN", help="the binary whose `list accels` gives the defaults "
+                       "(default $ACCELBENCH, else the source tree's build/accelbench)")
     return p.parse_args(argv)
 
 
@@ -467,7 +630,8 @@ def main(argv=None):
     if not rows:
         return 0
     rows = dedup_rows(rows, args.csv)
-    labels = config_labels(rows, defaults=accel_defaults_from_env())
+    defaults = accel_defaults_from_env(args.accelbench)
+    labels = config_labels(rows, defaults=defaults)
     workloads = ordered((r["workload"] for r in rows), WORKLOAD_ORDER)
     scenes = ordered(r["scene"] for r in rows)
     written, stems = [], set()
@@ -478,7 +642,20 @@ def main(argv=None):
             stem += "_"
         stems.add(stem)
         plot_scene(scene, srows, labels, workloads, os.path.join(out, stem), written)
-    plot_overview(rows, labels, scenes, os.path.join(out, "overview__ratio.png"), written)
+    plot_overview(rows, labels, scenes, os.path.join(out, overview_name()), written)
+    for w in workloads:
+        plot_overview(rows, labels, scenes, os.path.join(out, overview_name(w)), written, workload=w)
+    for name, accel, key, members in sweep_list(rows):
+        plot_sweep(rows, labels, accel, key, members, os.path.join(out, name), written)
+    import findings
+    path = os.path.join(out, "params.csv")
+    check_replaceable(path)
+    findings.write_params_csv(path, findings.params_table(rows, labels, config_key, split_params, defaults))
+    written.append(path)
+    import summary
+    path = summary.write_beside(args.csv, out, args.accelbench)
+    if path:
+        written.append(path)
     if not args.quiet:
         print("\n".join(written))
     return 0

@@ -4,15 +4,25 @@
     report.py RUN_DIR [--out FILE.html] [--accelbench BIN] [--pictures auto|on|off] [--quiet]
 
 The page (default RUN_DIR/report.html) holds, every number from RUN_DIR/matrix.csv
-(and run.txt for the commands):
+(and run.txt for the commands), in this order:
+  - the findings (scripts/findings.py, the same as summary.md's): per workload
+    every configuration ranked by the geometric mean of its paired ratio to
+    Embree, with a 95 % t-interval and its number of cells; the winners map
+    (per scene and workload the fastest, and the fastest of the survey's
+    structures, ties marked); a line per family: where it wins, where it
+    loses worst;
   - the run: machine, cpu, revision, threads, dates and every command of run.txt;
-  - a table with one row per CSV row (the last row of each cell, as plot.py):
+  - plot.py's figures: the overview heat map (over workloads) and one per
+    workload, the sweeps (one parameter of an accelerator on x, the paired ratio
+    on y), per scene the paired ratio, Mrays/s (with threads), tests and build;
+  - pictures, cost growth and verification (below);
+  - last, a table with one row per CSV row (the last row of each cell, as plot.py):
     scene, accelerator (labelled by its parameters that differ from the
     defaults), workload, Mrays/s, the paired ratio to Embree with its spread,
     tests/box tests/steps per ray, build time, bytes per primitive, mismatches by
     class; ratio cells coloured (green faster than Embree, red slower); sortable
     by every column (the headers are buttons: click, Enter or Space);
-  - plot.py's figures (reused from RUN_DIR when there, else drawn);
+  - (plot.py's figures are reused from RUN_DIR when there, else drawn);
   - with pictures (--pictures; auto: runs of at most 10 scenes, scenes of at most
     100000 primitives), per scene a picture (render through embree) and the
     per-pixel primitive tests of the primary rays of every accelerator side by
@@ -27,6 +37,8 @@ The page (default RUN_DIR/report.html) holds, every number from RUN_DIR/matrix.c
     with the verify command that lists its rays and their replay commands;
   - findings of reproduce runs in the folder (*_tables.md, summary.md), as text.
 Images are embedded as data: URIs; the page loads nothing from anywhere.
+Beside the page, RUN_DIR/summary.md is (re)written with the same findings as
+Markdown (scripts/summary.py) unless a summary.md of another writer is there.
 Exit status 2 for a missing folder, CSV or column.
 """
 import argparse
@@ -45,6 +57,8 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot as common  # noqa: E402
+import findings  # noqa: E402
+import summary  # noqa: E402
 import numpy as np  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -58,26 +72,9 @@ HEAT_SIDE = 128          # heat maps and pictures: this many pixels on the longe
 CLOSEST = ("primary", "reflection", "diffuse", "random", "whitted:eye", "whitted:reflected", "whitted:refracted")
 MISMATCH = ("real", "edge", "tol", "refwrong", "origin", "unjudged")
 
-# Two-sided 95% quantiles of Student's t, df 1..30, then 40, 60, 120 and infinity.
-T975 = {1: 12.706, 2: 4.303, 3: 3.182, 4: 2.776, 5: 2.571, 6: 2.447, 7: 2.365, 8: 2.306, 9: 2.262, 10: 2.228,
-        11: 2.201, 12: 2.179, 13: 2.160, 14: 2.145, 15: 2.131, 16: 2.120, 17: 2.110, 18: 2.101, 19: 2.093,
-        20: 2.086, 21: 2.080, 22: 2.074, 23: 2.069, 24: 2.064, 25: 2.060, 26: 2.056, 27: 2.052, 28: 2.048,
-        29: 2.045, 30: 2.042, 40: 2.021, 60: 2.000, 120: 1.980}
-
-
-def t975(df):
-    """The 0.975 quantile of Student's t with df degrees of freedom (scipy when installed, else the table)."""
-    try:
-        from scipy.stats import t
-        return float(t.ppf(0.975, df))
-    except ImportError:
-        pass
-    if df in T975:
-        return T975[df]
-    for d in (40, 60, 120):
-        if df < d:
-            return T975[d]  # the next tabulated df up: a slightly narrower interval than exact, within 1%
-    return 1.960
+# Student's t quantiles: the findings' intervals and the cost-growth fits use the same ones.
+T975 = findings.T975
+t975 = findings.t975
 
 
 def fit_power(ns, ys):
@@ -255,6 +252,7 @@ th button{font:inherit;font-weight:600;background:none;border:0;padding:.15rem 0
 th button:focus{outline:2px solid #1a5fb4}
 th[aria-sort=ascending] button::after{content:" \\25B2"}th[aria-sort=descending] button::after{content:" \\25BC"}
 .figs{display:flex;flex-wrap:wrap;gap:.8rem}
+.ranks{display:flex;flex-wrap:wrap;gap:0 1.2rem;align-items:flex-start}.ranks>div{max-width:100%;min-width:0}
 img.plot{max-width:100%;height:auto;border:1px solid #eee}
 .heat{display:flex;flex-wrap:wrap;gap:.6rem;align-items:flex-start}
 .heat figure{margin:0;text-align:center;font-size:12px}
@@ -342,13 +340,15 @@ COLUMNS = (  # header, title, value of a row (text, sort key), left-aligned
      lambda r, l: (l, None), True),
     ("workload", "workload", lambda r, l: (r["workload"], None), True),
     ("rays", "rays", lambda r, l: (r.get("rays", ""), num(r.get("rays"))), False),
-    ("Mrays/s", "million rays per second (median of the timed samples)",
-     lambda r, l: (fmt(num(r.get("mrays_per_s"))), num(r.get("mrays_per_s"))), False),
     ("ratio", "trace time / Embree's, median over the paired samples (>1 slower)",
      lambda r, l: (fmt(num(r.get("ratio_vs_embree"))), num(r.get("ratio_vs_embree"))), False),
     ("ratio min–max", "smallest and largest paired ratio",
      lambda r, l: (f"{fmt(num(r.get('ratio_min')))}–{fmt(num(r.get('ratio_max')))}"
                    if num(r.get("ratio_min")) is not None else "", num(r.get("ratio_min"))), False),
+    ("Mrays/s", "million rays per second (median of the timed samples) on the threads of the next column",
+     lambda r, l: (fmt(num(r.get("mrays_per_s"))), num(r.get("mrays_per_s"))), False),
+    ("threads", "threads the cell traced on (an accelerator that mutates while tracing runs on one)",
+     lambda r, l: (r.get("threads", ""), num(r.get("threads"))), False),
     ("tests/ray", "primitive tests per ray",
      lambda r, l: (fmt(num(r.get("tests_per_ray"))), num(r.get("tests_per_ray"))), False),
     ("box tests/ray", "bounding-volume tests per ray",
@@ -365,7 +365,8 @@ COLUMNS = (  # header, title, value of a row (text, sort key), left-aligned
 def section_table(rows, labels):
     out = ['<section id="table"><h2>Every cell</h2>',
            '<p class="note">One row per CSV row (the last measurement of each cell). Ratio: trace time over '
-           "Embree's on the same rays, paired samples; green is faster than Embree, red slower. "
+           "Embree's on the same rays, paired samples; green is faster than Embree, red slower. Mrays/s is on "
+           "the row's threads. The parameters in columns: params.csv beside the CSV (plot.py writes it). "
            "Sort by any column with its header button (click, Enter or Space; again to reverse).</p>",
            '<div class="scroll" tabindex="0" role="region" aria-label="table of every cell, scrolls sideways">',
            '<table id="cells"><thead><tr>']
@@ -394,9 +395,18 @@ def section_table(rows, labels):
     return "\n".join(out)
 
 
-def plot_files(rows, labels, run_dir, csv_path, tmp, binary):
-    """plot.py's PNGs: the run folder's when they are all there, else drawn into tmp."""
+SCENE_FIGS = (("ratio", "Paired ratio to Embree per workload and accelerator, min-max bars"),
+              ("mrays", "Ray throughput in Mrays/s per workload and accelerator, the legend giving each one's threads"),
+              ("tests", "Primitive tests and traversal steps per ray per workload and accelerator"),
+              ("build_mem", "Build time and bytes per primitive per accelerator"))
+
+
+def plot_files(rows, labels, run_dir, tmp):
+    """plot.py's PNGs: each from the run folder when it is there, else drawn into tmp.
+    Returns {"overview": [(workload or None, path)], "sweeps": [(accel, key, path)], "scenes": [(scene, stem)],
+    "scene_folder": folder of the per-scene PNGs}."""
     scenes = common.ordered(r["scene"] for r in rows)
+    workloads = common.ordered((r["workload"] for r in rows), common.WORKLOAD_ORDER)
     stems, names = set(), []
     for s in scenes:
         stem = common.safe_name(s)
@@ -404,47 +414,70 @@ def plot_files(rows, labels, run_dir, csv_path, tmp, binary):
             stem += "_"
         stems.add(stem)
         names.append((s, stem))
-    def have(folder):
-        return os.path.isfile(os.path.join(folder, "overview__ratio.png")) and all(
-            os.path.isfile(os.path.join(folder, stem + "__mrays.png")) for _, stem in names)
+    drawn = os.path.join(tmp, "plots")
+    os.makedirs(drawn, exist_ok=True)
+    overview = []
+    for w in [None] + workloads:
+        name = common.overview_name(w)
+        path = os.path.join(run_dir, name)
+        if not os.path.isfile(path):
+            path = os.path.join(drawn, name)
+            common.plot_overview(rows, labels, scenes, path, [], workload=w)
+        if os.path.isfile(path):
+            overview.append((w, path))
+    sweeps = []
+    for name, accel, key, members in common.sweep_list(rows):
+        path = os.path.join(run_dir, name)
+        if not os.path.isfile(path):
+            path = os.path.join(drawn, name)
+            common.plot_sweep(rows, labels, accel, key, members, path, [])
+        if os.path.isfile(path):
+            sweeps.append((accel, key, path))
     folder = run_dir
-    if len(names) > PLOT_MAX_SCENES:
-        # Only the overview goes on the page (section_plots links the per-scene PNGs the folder has).
-        if not os.path.isfile(os.path.join(run_dir, "overview__ratio.png")):
-            folder = os.path.join(tmp, "plots")
-            os.makedirs(folder, exist_ok=True)
-            common.plot_overview(rows, labels, scenes, os.path.join(folder, "overview__ratio.png"), [])
-    elif not have(run_dir):
-        folder = os.path.join(tmp, "plots")
-        if binary:
-            os.environ.setdefault("ACCELBENCH", binary)
-        common.main([csv_path, "--out", folder, "--quiet"])
-    return folder, names
+    if len(names) <= PLOT_MAX_SCENES and not all(
+            os.path.isfile(os.path.join(run_dir, f"{stem}__{suf}.png")) for _, stem in names for suf, _ in SCENE_FIGS):
+        folder = drawn
+        for scene, stem in names:
+            srows = [r for r in rows if r["scene"] == scene]
+            common.plot_scene(scene, srows, labels, workloads, os.path.join(drawn, stem), [])
+    return {"overview": overview, "sweeps": sweeps, "scenes": names, "scene_folder": folder}
 
 
-def section_plots(rows, folder, names, run_dir):
+def section_plots(rows, plots, run_dir):
     out = ['<section id="plots"><h2>Plots</h2>']
-    ov = os.path.join(folder, "overview__ratio.png")
-    if os.path.isfile(ov):
-        out.append("<h3>Ratio to Embree, every scene and accelerator</h3>")
-        out.append(img(ov, "Heat map of trace time relative to Embree, geometric mean over workloads, one row per "
-                           "scene and one column per accelerator; values above 1 are slower than Embree"))
+    for w, path in plots["overview"]:
+        if w is None:
+            out.append("<h3>Ratio to Embree, every scene and accelerator (geometric mean over workloads)</h3>")
+            out.append(img(path, "Heat map of trace time relative to Embree, geometric mean over workloads, one row "
+                                 "per scene and one column per accelerator; values above 1 are slower than Embree"))
+    per_workload = [(w, path) for w, path in plots["overview"] if w is not None]
+    if per_workload:
+        out.append('<h3 id="heatmaps">Ratio to Embree per workload</h3><div class="figs">')
+        for w, path in per_workload:
+            out.append(img(path, f"Heat map of trace time relative to Embree for the {w} workload, one row per scene "
+                                 "and one column per accelerator; values above 1 are slower than Embree"))
+        out.append("</div>")
+    if plots["sweeps"]:
+        out.append('<h3 id="sweeps">Sweeps</h3><p class="note">Instances of one accelerator that differ in one '
+                   "parameter: the parameter on x, the paired ratio to Embree (median, min–max bars) on y, one line "
+                   "per scene, one panel per workload.</p>")
+        for accel, key, path in plots["sweeps"]:
+            out.append(img(path, f"Sweep of {accel}'s parameter {key}: paired ratio to Embree against {key}, one line "
+                                 "per scene, one panel per workload"))
+    names, folder = plots["scenes"], plots["scene_folder"]
     if len(names) > PLOT_MAX_SCENES:
         out.append(f'<p class="note">{len(names)} scenes: their per-scene figures are not embedded, to keep the page '
                    "small (accelbench report embeds them for runs of at most "
                    f"{PLOT_MAX_SCENES} scenes); plot.py's PNGs beside the CSV:</p><ul>")
         for scene, stem in names:
-            have = [suf for suf in ("mrays", "tests", "build_mem")
-                    if os.path.isfile(os.path.join(run_dir, f"{stem}__{suf}.png"))]
+            have = [suf for suf, _ in SCENE_FIGS if os.path.isfile(os.path.join(run_dir, f"{stem}__{suf}.png"))]
             links = " · ".join(f'<a href="{esc(stem)}__{suf}.png">{suf}</a>' for suf in have) or "not drawn"
             out.append(f"<li>{esc(scene)}: {links}</li>")
         out.append("</ul></section>")
         return "\n".join(out)
     for scene, stem in names:
         out.append(f"<h3>{esc(scene)}</h3><div class=\"figs\">")
-        for suffix, what in (("mrays", "Ray throughput in Mrays/s per workload and accelerator"),
-                             ("tests", "Primitive tests and traversal steps per ray per workload and accelerator"),
-                             ("build_mem", "Build time and bytes per primitive per accelerator")):
+        for suffix, what in SCENE_FIGS:
             p = os.path.join(folder, f"{stem}__{suffix}.png")
             if os.path.isfile(p):
                 out.append(img(p, f"{what} on {scene}"))
@@ -780,10 +813,10 @@ def section_reproduce(run_dir):
     files = []
     for pat in ("*_tables.md", "summary.md", "report.md", "*/*_tables.md", "*/summary.md", "*/report.md"):
         files += sorted(glob.glob(os.path.join(run_dir, pat)))
-    files = list(dict.fromkeys(files))
+    files = [f for f in dict.fromkeys(files) if not (os.path.basename(f) == "summary.md" and summary.written_by_us(f))]
     if not files:
         return ""
-    out = ['<section id="reproduce"><h2>Findings</h2>']
+    out = ['<section id="reproduce"><h2>Findings of reproduce runs</h2>']
     for path in files:
         text = open(path, encoding="utf-8", errors="replace").read()
         rel = os.path.relpath(path, run_dir)
@@ -833,7 +866,9 @@ def main(argv=None):
     binary = args.accelbench or os.environ.get("ACCELBENCH")
     if binary and not os.access(binary, os.X_OK):
         binary = None
-    defaults = accel_defaults(binary)
+    # The defaults (labels) also from the source tree's build when no binary is given; pictures only with one given.
+    defaults_from = common.find_accelbench(binary)
+    defaults = accel_defaults(defaults_from)
     labels = config_labels(rows, defaults)
     if args.growth_md:
         print(growth_markdown(rows, labels))
@@ -844,21 +879,25 @@ def main(argv=None):
     tmp = tempfile.mkdtemp(prefix="accelbench-report.")
     try:
         parts = [f"<h1>{esc(title)}</h1>",
-                 '<nav aria-label="sections"><p><a href="#run">run</a> · <a href="#table">cells</a> · '
-                 '<a href="#plots">plots</a> · <a href="#pictures">heat maps</a> · <a href="#scaling">cost growth</a>'
-                 ' · <a href="#verification">verification</a></p></nav>']
+                 '<nav aria-label="sections"><p><a href="#findings">findings</a> · <a href="#run">run</a> · '
+                 '<a href="#plots">plots</a> · <a href="#pictures">pictures</a> · <a href="#scaling">cost growth</a>'
+                 ' · <a href="#verification">verification</a> · <a href="#table">every cell</a></p></nav>']
         if not rows:
             parts.append("<p>The CSV has no data rows.</p>")
         else:
+            parts.append(findings.html(findings.findings(rows, labels, common.config_key), esc))
             parts.append(section_run(rows, args.run_dir))
-            parts.append(section_table(rows, labels))
-            folder, names = plot_files(rows, labels, args.run_dir, csv_path, tmp, binary)
-            parts.append(section_plots(rows, folder, names, args.run_dir))
+            plots = plot_files(rows, labels, args.run_dir, tmp)
+            parts.append(section_plots(rows, plots, args.run_dir))
             parts.append(section_pictures(rows, labels, binary, defaults, args.pictures, tmp, args.quiet))
             parts.append(section_scaling(rows, labels))
             parts.append(section_verify(rows, labels, defaults))
         parts.append(section_reproduce(args.run_dir))
+        if rows:
+            parts.append(section_table(rows, labels))
         write_page(out_path, "\n".join(parts), title)
+        if rows and os.path.dirname(os.path.abspath(out_path)) == os.path.abspath(args.run_dir):
+            summary.write_beside(csv_path, args.run_dir, defaults_from)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if not args.quiet:

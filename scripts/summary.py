@@ -1,8 +1,17 @@
 #!/usr/bin/python3
 """Summarise an accelbench matrix.csv as Markdown tables (stdout, or --out FILE).
 
-For every accelerator configuration (labelled as plot.py labels them: accel,
-or accel[params that differ]) over every scene of the file:
+First the findings (scripts/findings.py, the same code and numbers as the
+HTML report's): per workload, every configuration ranked by the geometric
+mean of its paired ratio to Embree with a 95 % interval and its number of
+cells; per scene and workload the fastest configuration and the fastest of
+the survey's structures, ties marked; one line per accelerator family.
+
+Then, for every accelerator configuration (labelled as plot.py labels them:
+the name alone for the default instance, name[the parameters that differ
+from the defaults] for another; the defaults come from `accelbench list
+accels` of --accelbench, $ACCELBENCH or the source tree's build) over every
+scene of the file:
   - one table per workload: per scene, each configuration's ratio to Embree
     (the paired median, ratio_vs_embree: >1 is slower than Embree) and, in
     a last column, the configuration with the lowest ratio (the winner);
@@ -34,6 +43,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot as common  # noqa: E402
+import findings  # noqa: E402
 
 PROG = "summary.py"
 REQUIRED = ("scene", "accel", "params", "workload", "threads", "ratio_vs_embree", "mrays_per_s", "tests_per_ray",
@@ -95,7 +105,7 @@ def predicted_tables(rows, labels, scenes, workloads):
     if rows and "predicted_tests_per_ray" not in rows[0]:
         common.fail("the CSV has no predicted_tests_per_ray column (written by accelbench since bvh-gs)")
     rows = [r for r in rows if num(r.get("predicted_tests_per_ray", "")) is not None]
-    out = ["## Cost model: predicted against measured (measured / predicted)\n",
+    out = [PREDICTED_HEADING + " (measured / predicted)\n",
            "The prediction is eq. (3) of the survey with surface-area conditional probabilities, made for rays "
            "that start outside the root volume and cross it (Goldsmith and Salmon's primary rays): a ratio "
            "near 1 is where it holds.\n"]
@@ -121,18 +131,62 @@ def predicted_tables(rows, labels, scenes, workloads):
     return out
 
 
+def written_by_us(path):
+    """Whether path is absent or a summary.py summary (its first line "# Summary of"), so it may be rewritten."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            return f.readline().startswith("# Summary of")
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+
+
+PREDICTED_HEADING = "## Cost model: predicted against measured"
+
+
+def had_predicted(path):
+    """Whether the summary at path was written with --predicted (rewritten, it keeps them)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            return any(line.startswith(PREDICTED_HEADING) for line in f)
+    except OSError:
+        return False
+
+
+def write_beside(csv_path, folder=None, accelbench=None):
+    """summary.md in folder (default: beside the CSV; plot.py and report.py call this at the end of a run),
+    unless a summary.md there was written by something else (a reproduce or champion run's). Returns its
+    path, or None."""
+    path = os.path.join(folder or os.path.dirname(os.path.abspath(csv_path)), "summary.md")
+    if not written_by_us(path) or not os.access(os.path.dirname(path), os.W_OK):
+        return None
+    prog = common.PROG
+    argv = [csv_path, "--out", path] + (["--accelbench", accelbench] if accelbench else []) + (
+        ["--predicted"] if had_predicted(path) else [])
+    try:
+        main(argv)
+    except SystemExit:  # nothing to summarise (no accelerator but embree): no file
+        return None
+    finally:
+        common.PROG = prog
+    return path
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("csv", metavar="CSV", help="matrix.csv written by accelbench run")
     p.add_argument("--out", metavar="FILE", help="write the Markdown here (default: stdout)")
     p.add_argument("--predicted", action="store_true", help="add the cost model's predictions against the measured counters")
+    p.add_argument("--accelbench", metavar="BIN", help="the binary whose `list accels` gives the parameters' defaults "
+                   "(default $ACCELBENCH, else the source tree's build/accelbench)")
     args = p.parse_args(argv)
     common.PROG = PROG
     rows = common.dedup_rows(common.load_rows(args.csv, REQUIRED), args.csv)
     rows = [r for r in rows if r["accel"] != "embree"]
     if not rows:
         common.fail(f"{args.csv}: no rows of an accelerator other than embree")
-    labels = common.config_labels(rows, limit=None)
+    labels = common.config_labels(rows, limit=None, defaults=common.accel_defaults_from_env(args.accelbench))
     configs = list(labels)
     scenes = common.ordered(r["scene"] for r in rows)
     workloads = common.ordered((r["workload"] for r in rows), common.WORKLOAD_ORDER)
@@ -141,6 +195,8 @@ def main(argv=None):
     out.append(f"# Summary of {args.csv}\n")
     out.append("Ratio = the accelerator's time over Embree's on the same rays, the median of samples interleaved "
                "with Embree's (ratio_vs_embree; >1: slower than Embree).\n")
+    out.append(findings.markdown(findings.findings(rows, labels, common.config_key)))
+    out.append("## Every cell\n")
     wins = {c: 0 for c in configs}
     for w in workloads:
         out.append(f"## {w}: ratio to Embree\n")
@@ -156,9 +212,11 @@ def main(argv=None):
         out.append("")
     out.append("## Per configuration, over every scene and workload\n")
     out.append("Geometric mean of the ratio; medians of the rest over the configuration's cells.\n")
-    out.append("| configuration | cells | wins | ratio (geomean) | Mrays/s | tests/ray | box tests/ray | steps/ray | "
-               "build ms | bytes/prim | real mismatches |")
-    out.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    out.append("Mrays/s is on the configuration's threads (an accelerator that mutates while tracing runs on one): "
+               "compare by the ratio.\n")
+    out.append("| configuration | cells | wins | ratio (geomean) | Mrays/s | threads | tests/ray | box tests/ray | "
+               "steps/ray | build ms | bytes/prim | real mismatches |")
+    out.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for c in configs:
         rs = [r for (k, _, _), r in cell.items() if k == c]
 
@@ -167,7 +225,7 @@ def main(argv=None):
             return statistics.median(vals) if vals else None
         real = sum(int(num(r["mismatch_real"]) or 0) for r in rs)
         out.append(f"| {labels[c]} | {len(rs)} | {wins[c]} | {fmt(geomean(num(r['ratio_vs_embree']) for r in rs))} | "
-                   f"{fmt(med('mrays_per_s'), 3)} | {fmt(med('tests_per_ray'), 1)} | {fmt(med('box_tests_per_ray'), 1)} | "
+                   f"{fmt(med('mrays_per_s'), 3)} | {c[2]} | {fmt(med('tests_per_ray'), 1)} | {fmt(med('box_tests_per_ray'), 1)} | "
                    f"{fmt(med('steps_per_ray'), 1)} | {fmt(med('build_ms'), 1)} | {fmt(med('bytes_per_prim'), 1)} | {real} |")
     out.append("")
     out.extend(lazy_pass_table(rows, scenes, workloads))
@@ -175,8 +233,10 @@ def main(argv=None):
         out.extend(predicted_tables(rows, labels, scenes, workloads))
     text = "\n".join(out) + "\n"
     if args.out:
-        with open(args.out, "w") as f:
+        tmp = args.out + ".tmp"
+        with open(tmp, "w", encoding="utf-8") as f:
             f.write(text)
+        os.replace(tmp, args.out)
     else:
         sys.stdout.write(text)
     return 0

@@ -82,6 +82,11 @@ refused "no such folder $T/nodir" -- "$AB" report "$T/two" --out "$T/nodir/r.htm
 refused "unexpected argument" -- "$AB" report "$T/two" "$T/empty"
 refused "option of run" -- "$AB" verify $S --report
 expect 0 "wrote $T/two/report.html" -- "$AB" report "$T/two" --pictures off
+# the report step writes summary.md beside the CSV: the findings rank both instances, labelled by the rule
+# (the default instance by its name alone), each of one cell
+grep -q "^## Findings" "$T/two/summary.md" && grep -Eq "^\| [12] \| grid \| [0-9.e+-]+ \| n = 1: none \| 1 \|$" "$T/two/summary.md" \
+    && grep -Eq "^\| [12] \| grid\[res=4x4x4\] \| " "$T/two/summary.md" && ok \
+    || bad "report: summary.md without its findings ranking grid and grid[res=4x4x4]"
 expect 0 "wrote $T/r.html" -- "$AB" report "$T/two" --out "$T/r.html"
 # one table row per CSV row, images inline, nothing fetched from elsewhere, alt text on every image
 page_check() { # PAGE CSV
@@ -127,6 +132,26 @@ grep -q "finding: our grid is 2x faster" "$T/fake/report.html" && ok || bad "the
 # run --report writes the page at the end
 expect 0 "report.html" -- "$AB" run $S --accels embree,grid --repeat 1 --threads 1 --out "$T/rr" --report
 [ -s "$T/rr/report.html" ] && [ -s "$T/rr/overview__ratio.png" ] && ok || bad "run --report: no report.html or plots"
+# the plot step's per-workload heat map, params.csv (one row per configuration and parameter) and summary.md
+[ -s "$T/rr/overview__ratio__primary.png" ] && [ -s "$T/rr/spd_balls_1__ratio.png" ] && ok \
+    || bad "run --report: no per-workload heat map or per-scene ratio figure"
+got=$(/usr/bin/python3 -c '
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+grid = [r for r in rows if r["accel"] == "grid"]
+print(len(grid) > 1, all(r["label"] == "grid" for r in grid), all(r["default"] == "yes" for r in grid),
+      ",".join(r["key"] + "=" + r["value"] for r in grid) == next(r["params"] for r in grid))' "$T/rr/params.csv" 2>&1)
+[ "$got" = "True True True True" ] && ok || bad "params.csv of grid: $got"
+# the page opens with the findings (grid ranked, n 1 per workload) and ends with the table of every cell
+got=$(/usr/bin/python3 -c '
+import re, sys
+page = open(sys.argv[1]).read()
+f, t = page.find("<section id=\"findings\">"), page.find("<section id=\"table\">")
+first = page.find("<section") == f
+rank = re.findall(r"<tr data-label=\"grid\" data-gm=\"[^\"]+\" data-n=\"1\">", page)
+print(0 <= f < t, first, len(rank))' "$T/rr/report.html")
+[ "$got" = "True True 1" ] && ok || bad "run --report: findings first, table last, grid ranked: $got"
+grep -q "^| 1 | grid | " "$T/rr/summary.md" && ok || bad "run --report: summary.md does not rank grid"
 
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

@@ -7,6 +7,9 @@
 # button) changes the row order and reverses on a second press, and whether
 # the page is wider than the window; the DOM is dumped at 1280x800 and at
 # 420x800 (a narrow window: Chromium makes it 500 wide, its least). A screenshot at 1280x800 must not be one colour.
+# The findings: the section is the page's first and comes before the table of every cell, and its rankings (per
+# workload each configuration's label, geometric mean as shown and n cells) equal a recomputation from the CSV
+# done here, as do summary.md's (written beside the CSV by the run's plot step).
 # Prints "N passed, N failed"; exits 1 on a failure.
 set -u
 AB=${ACCELBENCH:?set ACCELBENCH to the accelbench binary}
@@ -27,11 +30,47 @@ chrome() { # chrome WIDTHxHEIGHT ARGS... (the flags keep it off the network and 
         --user-data-dir="$T/profile" --hide-scrollbars --window-size="$size" "$@" 2>>"$T/chromium.log"
 }
 
-# A small run: one tiny scene, three accelerators (one of them twice, a sweep), two workloads, 32x32.
-"$AB" run --scenes spd:balls:2 --accels 'embree,grid,grid[res=4x4x4],bsp' --workloads primary,shadow --res 32x32 \
+# A small run: two tiny scenes, three accelerators (one of them twice, a sweep), two workloads, 32x32.
+"$AB" run --scenes spd:balls:1,spd:balls:2 --accels 'embree,grid,grid[res=4x4x4],bsp' --workloads primary,shadow --res 32x32 \
     --repeat 1 --threads 1 --out "$T/run" --quiet 2>"$T/run.log" && ok || { bad "the run failed"; cat "$T/run.log" >&2; }
 expect 0 "wrote" -- "$AB" report "$T/run" --out "$T/report.html"
 NROWS=$(/usr/bin/python3 -c 'import csv, sys; print(len(list(csv.DictReader(open(sys.argv[1])))))' "$T/run/matrix.csv")
+# The rankings recomputed from the CSV, here and not by scripts/: label by the rule (the default instance is its
+# name, the other grid[res=4x4x4]), the geometric mean of ratio_vs_embree over the workload's scenes, shown to three
+# significant digits, and n; in order of the mean, one "workload|label|mean|n" per configuration, ';' between.
+WANT=$(/usr/bin/python3 - "$T/run/matrix.csv" <<'PY'
+import csv, math, sys
+cells = {}
+for r in csv.DictReader(open(sys.argv[1])):
+    if r["accel"] == "embree" or not r["ratio_vs_embree"]:
+        continue
+    label = r["accel"] + ("[res=4x4x4]" if "res=4x4x4" in r["params"] else "")
+    cells.setdefault((r["workload"], label), []).append(float(r["ratio_vs_embree"]))
+out = []
+for w in ("primary", "shadow"):
+    ranked = sorted((math.exp(sum(map(math.log, v)) / len(v)), l, len(v)) for (ww, l), v in cells.items() if ww == w)
+    out += [f"{w}|{l}|{g:.3g}|{n}" for g, l, n in ranked]
+print(";".join(out))
+PY
+)
+# summary.md's rankings in the same form
+MDRANK=$(/usr/bin/python3 - "$T/run/summary.md" <<'PY'
+import re, sys
+out, w = [], None
+for line in open(sys.argv[1]):
+    m = re.match(r"^### Ranking: (\S+)", line)
+    if m:
+        w = m.group(1)
+        continue
+    if line.startswith("### Winners"):
+        w = None
+    m = re.match(r"^\| \d+ \| ([^|]+) \| ([^|]+) \| [^|]+ \| (\d+) \|$", line.rstrip("\n"))
+    if m and w:
+        out.append(f"{w}|{m.group(1).strip()}|{m.group(2).strip()}|{m.group(3)}")
+print(";".join(out))
+PY
+)
+[ -n "$WANT" ] && [ "$MDRANK" = "$WANT" ] && ok || bad "summary.md rankings '$MDRANK', recomputed '$WANT'"
 
 # The page with the checks appended before </body>.
 /usr/bin/python3 - "$T/report.html" "$T/check.html" <<'PY'
@@ -60,6 +99,18 @@ window.addEventListener('load', function () {
   out.push('changed=' + (asc !== before ? 1 : 0), 'ascending=' + (sortedOk ? 1 : 0),
            'reversed=' + (desc !== asc ? 1 : 0), 'aria=' + heads[col].getAttribute('aria-sort'));
   out.push('pagewidth=' + document.documentElement.scrollWidth, 'window=' + window.innerWidth);
+  var fs = document.getElementById('findings');
+  out.push('findings_first=' + (fs && document.querySelector('h2') === fs.querySelector('h2') &&
+           (fs.compareDocumentPosition(t) & Node.DOCUMENT_POSITION_FOLLOWING) ? 1 : 0));
+  var rk = [];
+  Array.prototype.forEach.call(document.querySelectorAll('#findings table.rank'), function (tb) {
+    var w = tb.getAttribute('data-workload');
+    Array.prototype.forEach.call(tb.tBodies[0].rows, function (r) {
+      rk.push(w + '|' + r.cells[1].textContent + '|' + r.querySelector('td.gm').textContent + '|' +
+              r.querySelector('td.n').textContent);
+    });
+  });
+  out.push('ranking=' + (rk.join(';') || 'none'));
   document.getElementById('result').textContent = 'RES' + 'ULT ' + out.join(' ') + ' END';
 });
 </script>"""
@@ -77,6 +128,8 @@ for size in 1280,800 420,800; do
     [ "$(val changed)" = 1 ] && [ "$(val ascending)" = 1 ] && ok || bad "$size: sorting by Mrays/s ($res)"
     [ "$(val reversed)" = 1 ] && [ "$(val aria)" = descending ] && ok || bad "$size: the second press ($res)"
     [ "$(val pagewidth)" -le "$(val window)" ] && ok || bad "$size: the page scrolls sideways ($res)"
+    [ "$(val findings_first)" = 1 ] && ok || bad "$size: the findings are not the first section, before the table ($res)"
+    [ -n "$WANT" ] && [ "$(val ranking)" = "$WANT" ] && ok || bad "$size: rankings '$(val ranking)', recomputed '$WANT'"
 done
 
 # A screenshot of the page itself: not blank (many colours, not one).
