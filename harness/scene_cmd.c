@@ -1,8 +1,9 @@
 /* scene_cmd.c: looking at scenes without tracing them.
  *
- *   accelbench scene info SCENE [SCENE ...] [--view SPEC] [--memcap MIB]   counts by kind, bounds, lights, view, hash
+ *   accelbench scene info SCENE [SCENE ...] [--view SPEC] [--up AXIS] [--light X,Y,Z] [--memcap MIB]
+ *                                                                         counts by kind, bounds, lights, view, hash
  *   accelbench scene export SCENE --nff FILE [--memcap MIB]                 the scene as NFF (exact %.9g round trip)
- * A view is given as SCENE@VIEW or --view, as for run (scene_load applies it);
+ * A view is given as SCENE@VIEW or --view, --up and --light, as for run (scene_load applies it);
  * --memcap is the memory cap a generated scene's estimate is checked
  * against before it is generated (scenes/memory_cap.h). */
 #include "scene_cmd.h"
@@ -12,20 +13,22 @@
 #include <string.h>
 #include "../scenes/nff.h"
 #include "../scenes/scene.h"
+#include "options.h"
 #include "resources.h"
 #include "trace.h"
 
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: accelbench scene info SCENE [SCENE ...] [--view SPEC] [--memcap MIB]\n"
+            "usage: accelbench scene info SCENE [SCENE ...] [--view SPEC] [--up AXIS] [--light X,Y,Z ...] [--memcap MIB]\n"
             "       accelbench scene export SCENE --nff FILE [--memcap MIB]\n"
             "  info    primitive counts by kind, bounds, lights, view and a hash of the primitives\n"
             "          (the same hash for the same geometry, whatever file or generator it came from);\n"
-            "          SCENE@VIEW or --view 'eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG' moves the camera\n"
+            "          SCENE@VIEW or --view 'eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG;light=X,Y,Z' moves the camera\n"
             "  export  write the scene as NFF; reading it back gives the same hash\n"
+            "%s"
             "  --memcap MIB  refuse a scene estimated above MIB MiB before making it (default: half the memory\n"
-            "                this process may use; README: Limits and resources)\n");
+            "                this process may use; README: Limits and resources)\n", SCENE_UP_LIGHT_USAGE);
 }
 
 static void print_info(const scene_t *s, double load_ms)
@@ -75,28 +78,39 @@ int scene_cmd_main(int argc, char **argv)
     }
     char err[512];
     if (!strcmp(argv[1], "info")) {
+        char spec[1024] = "";
         const char *view = NULL;
         int nnames = 0;
-        bool memcap = false;
+        bool memcap = false, view_given = false;
         for (int i = 2; i < argc; i++) {
             if (strcmp(argv[i], "--memcap") == 0) {
                 if (take_memcap(argc, argv, &i, "info", &memcap)) return 2;
                 continue;
             }
-            if (strcmp(argv[i], "--view") != 0) {
+            /* --view, --up and --light (also as --OPTION=VALUE) make one view spec, as for run (options.c). */
+            static const char *const view_opts[] = {"view", "up", "light"};
+            const char *opt = NULL, *value = NULL;
+            for (int k = 0; k < 3 && !opt; k++) {
+                size_t n = strlen(view_opts[k]);
+                if (strncmp(argv[i], "--", 2) || strncmp(argv[i] + 2, view_opts[k], n)) continue;
+                if (argv[i][2 + n] == '=') opt = view_opts[k], value = argv[i] + 3 + n;
+                else if (!argv[i][2 + n]) opt = view_opts[k], value = i + 1 < argc ? argv[++i] : NULL;
+            }
+            if (!opt) {
                 argv[2 + nnames++] = argv[i];
                 continue;
             }
-            scene_view v;
-            if (i + 1 == argc || view) {
-                fprintf(stderr, "accelbench scene info: %s\n", view ? "--view given twice" : "--view needs a SPEC");
+            if (!value || (view_given && *opt == 'v')) {
+                fprintf(stderr, "accelbench scene info: %s\n", !value ? (*opt == 'v' ? "--view needs a SPEC" : *opt == 'u'
+                                ? "--up needs X, Y, Z or auto" : "--light needs X,Y,Z") : "--view given twice");
                 return 2;
             }
-            view = argv[++i];
-            if (scene_view_parse(view, &v, err, sizeof err) != 0) {
-                fprintf(stderr, "accelbench: --view %s: %s\n", view, err);
+            view_given |= *opt == 'v';
+            if (scene_view_option(spec, sizeof spec, opt, value, err, sizeof err) != 0) {
+                fprintf(stderr, "accelbench: %s\n", err);
                 return 2;
             }
+            view = spec;
         }
         if (nnames == 0) {
             fprintf(stderr, "accelbench scene info: name a scene (see accelbench list scenes)\n");
@@ -104,8 +118,11 @@ int scene_cmd_main(int argc, char **argv)
         }
         for (int i = 2; i < 2 + nnames; i++) {
             double t0 = clock_ms();
-            char name[1024];
-            snprintf(name, sizeof name, "%s%s%s", argv[i], view ? "@" : "", view ? view : "");
+            char name[4096];
+            if (snprintf(name, sizeof name, "%s%s%s", argv[i], view ? "@" : "", view ? view : "") >= (int)sizeof name) {
+                fprintf(stderr, "accelbench scene info: '%.60s...': the name with its view is too long\n", argv[i]);
+                return 2;
+            }
             scene_t *s = scene_load(name, err, sizeof err);
             if (!s) {
                 fprintf(stderr, "accelbench: %s\n", err);
