@@ -71,5 +71,23 @@ else
     echo "note: libcgal-demo is not installed: bunny's camera is not checked" >&2
 fi
 
+# --- the python that plots: a python3 first on PATH that fails does not stop the plots
+mkdir -p "$T/bin"
+printf '#!/bin/sh\nexit 1\n' > "$T/bin/python3"
+chmod +x "$T/bin/python3"
+if [ -x /usr/bin/python3 ] && /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
+    PATH="$T/bin:$PATH" "$AB" run --scenes spd:balls:1 --accels grid --workloads primary "${TINY[@]}" --out "$T/plots" \
+        > "$T/plots.out" 2>&1 && ok || bad "run with a failing python3 first on PATH: $(tail -2 "$T/plots.out")"
+    ls "$T/plots"/*.png > /dev/null 2>&1 && ok || bad "no plots with a failing python3 first on PATH: $(tail -2 "$T/plots.out")"
+else
+    echo "note: /usr/bin/python3 has no matplotlib: the plots are not checked" >&2
+fi
+# $ACCELBENCH_PYTHON is the interpreter, when set
+printf '#!/bin/sh\necho "$@" > "%s/called"\n' "$T" > "$T/bin/mypython"
+chmod +x "$T/bin/mypython"
+ACCELBENCH_PYTHON="$T/bin/mypython" "$AB" run --scenes spd:balls:1 --accels grid --workloads primary "${TINY[@]}" \
+    --out "$T/mine" > /dev/null 2>&1
+grep -q "scripts/plot.py $T/mine/matrix.csv" "$T/called" 2>/dev/null && ok || bad "\$ACCELBENCH_PYTHON was not what ran plot.py"
+
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]
