@@ -89,5 +89,17 @@ ACCELBENCH_PYTHON="$T/bin/mypython" "$AB" run --scenes spd:balls:1 --accels grid
     --out "$T/mine" > /dev/null 2>&1
 grep -q "scripts/plot.py $T/mine/matrix.csv" "$T/called" 2>/dev/null && ok || bad "\$ACCELBENCH_PYTHON was not what ran plot.py"
 
+# --- no cell at all: one line naming why, exit 2, no folder; some pairs skipped: said, the rest run
+refused "accelbench run: no cell to measure: lightbuf answers only shadow \(any-hit\) rays and diffuse asks for closest-hit" -- \
+    "$AB" run --scenes spd:balls:1 --accels lightbuf --workloads diffuse "${TINY[@]}" --out "$T/none"
+[ ! -e "$T/none" ] && ok || bad "a run with no cell made its folder"
+refused "accelbench verify: no cell to check: lightbuf answers only shadow .* primary, diffuse ask for closest-hit" -- \
+    "$AB" verify --scenes spd:balls:1 --accels lightbuf --workloads primary,diffuse --res 8x8
+"$AB" run --scenes spd:balls:1 --accels lightbuf,grid --workloads diffuse,shadow --res 8x8 --repeat 1 --threads 1 \
+    --no-plots --out "$T/some" > "$T/some.out" 2>&1 && ok || bad "run with some cells skipped failed"
+grep -q "skipped lightbuf x diffuse: lightbuf answers only shadow (any-hit) rays" "$T/some.out" && ok \
+    || bad "the skipped pair is not said: $(head -3 "$T/some.out")"
+[ "$(($(wc -l < "$T/some/matrix.csv") - 1))" = 3 ] && ok || bad "want 3 cells measured (grid x 2, lightbuf x shadow)"
+
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]
