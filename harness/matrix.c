@@ -818,6 +818,7 @@ int matrix_verify(options *o)
         return 2;
     }
     verify_widths w = table_widths(o);
+    uint64_t ncells = 0, nrays = 0, by_class[MM_CLASSES] = {0};
     check_pairs(o, "verify", replay, true);
     printf("%-*s %-*s %-*s", w.scene, "scene", w.workload, "workload", w.accel, "accel");
     for (int k = 0; k < VERIFY_NCOUNTS; k++) printf(" %9s", verify_counts[k]);
@@ -861,6 +862,9 @@ int matrix_verify(options *o)
                 printf("\n");
                 if (vr->mismatches[MM_REAL]) any_real = true;
                 unjudged += vr->mismatches[MM_UNJUDGED];
+                ncells++;
+                nrays += in.rs->count;
+                for (int k = 0; k < MM_CLASSES; k++) by_class[k] += vr->mismatches[k];
                 if (o->ray_index >= 0) replay_ray(s, ver, in.rs, (uint32_t)o->ray_index, wc.got, in.ref_answers, ac->ops->name);
                 else
                     for (uint32_t k = 0; k < vr->nlisted; k++) print_mismatch(o, in.rs, &vr->listed[k], ac, o->scenes[si]);
@@ -871,6 +875,17 @@ int matrix_verify(options *o)
         close_scene(s, ref, ver);
     }
     rayset_free(replay); /* NULL once a cell took it */
+    /* The whole in one line: only real mismatches fail verify; the other classes are the reference's or the
+     * judge's (README: verification). */
+    if (!status) {
+        printf("total: %llu cells, %llu rays: %llu real mismatches; not real: edge %llu, origin %llu, tol %llu, "
+               "refwrong %llu, unjudged %llu; exit %d: %s\n", (unsigned long long)ncells, (unsigned long long)nrays,
+               (unsigned long long)by_class[MM_REAL], (unsigned long long)by_class[MM_EDGE],
+               (unsigned long long)by_class[MM_ORIGIN], (unsigned long long)by_class[MM_TOL],
+               (unsigned long long)by_class[MM_REFWRONG], (unsigned long long)by_class[MM_UNJUDGED], any_real ? 1 : 0,
+               any_real ? "real mismatches found (listed above, each with the command that replays it)"
+                        : "no real mismatch");
+    }
     fflush(stdout);
     if (unjudged)
         fprintf(stderr, "accelbench: %llu disputed rays were left unjudged: the judge's budget (--judge-seconds %g) ran out\n",

@@ -89,6 +89,17 @@ ACCELBENCH_PYTHON="$T/bin/mypython" "$AB" run --scenes spd:balls:1 --accels grid
     --out "$T/mine" > /dev/null 2>&1
 grep -q "scripts/plot.py $T/mine/matrix.csv" "$T/called" 2>/dev/null && ok || bad "\$ACCELBENCH_PYTHON was not what ran plot.py"
 
+# --- verify's closing line: cells, rays, mismatches by class, what the exit status means
+"$AB" verify --scenes spd:balls:1 --accels exhaustive,grid --workloads primary,shadow --res 8x8 > "$T/v.out" 2>&1
+rc=$?
+[ "$rc" = 0 ] && ok || bad "verify exit $rc"
+rays=$(awk '$1 == "spd:balls:1" { n += $4 } END { print n }' "$T/v.out")
+last=$(tail -1 "$T/v.out")
+case "$last" in
+    "total: 4 cells, $rays rays: 0 real mismatches; not real: edge "*", origin "*", tol "*", refwrong "*", unjudged "*"; exit 0: no real mismatch") ok ;;
+    *) bad "verify's last line: '$last' (want 4 cells, $rays rays)" ;;
+esac
+
 # --- no cell at all: one line naming why, exit 2, no folder; some pairs skipped: said, the rest run
 refused "accelbench run: no cell to measure: lightbuf answers only shadow \(any-hit\) rays and diffuse asks for closest-hit" -- \
     "$AB" run --scenes spd:balls:1 --accels lightbuf --workloads diffuse "${TINY[@]}" --out "$T/none"
