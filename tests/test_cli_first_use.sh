@@ -112,5 +112,17 @@ grep -q "skipped lightbuf x diffuse: lightbuf answers only shadow (any-hit) rays
     || bad "the skipped pair is not said: $(head -3 "$T/some.out")"
 [ "$(($(wc -l < "$T/some/matrix.csv") - 1))" = 3 ] && ok || bad "want 3 cells measured (grid x 2, lightbuf x shadow)"
 
+# --- --help names every command the dispatcher takes and every reproduce experiment
+"$AB" --help > "$T/help" 2>&1
+for cmd in $(grep -oE 'strcmp\(cmd, "[a-z-]+"\)' "$SRC/harness/main.c" | sed 's/.*"\(.*\)".*/\1/' | grep -v -- '^--'); do
+    grep -qE "^  $cmd( |$)" "$T/help" && ok || bad "accelbench --help does not list the command $cmd"
+done
+known=$("$AB" reproduce nosuch 2>&1 | sed -n 's/.*(known: \([^;]*\);.*/\1/p')
+[ -n "$known" ] && ok || bad "reproduce's error lists no experiments"
+for e in ${known//,/ }; do
+    grep -qE "^ +reproduce $e " "$T/help" && ok || bad "accelbench --help does not list reproduce $e"
+    "$AB" reproduce "$e" --help > /dev/null 2>&1 && ok || bad "reproduce $e --help fails"
+done
+
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]
