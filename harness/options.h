@@ -20,7 +20,9 @@
     "                          then Z. Default: auto for a mesh file (file:PATH or a path) without a view; a catalogue\n" \
     "                          mesh keeps Y (Z when Y alone is thinnest). Same as the view part up=AXIS\n" \
     "  --light X,Y,Z           a point light at X,Y,Z; repeatable up to 4 times; the lights given replace the scene's\n" \
-    "                          (its own, or the automatic two above and behind the camera). Same as the part light=X,Y,Z\n"
+    "                          (its own, or the automatic two above and behind the camera). Same as the part light=X,Y,Z\n" \
+    "                          --view, --up and --light make one view, applied to every scene: the CSV's scene column\n" \
+    "                          says it (mesh.obj@up=Z;light=0,0,9)\n"
 
 typedef struct {
     const struct accel_ops *ops;
