@@ -636,9 +636,9 @@ int matrix_run(options *o)
     if (status == 0) status = plan_cells(o, store, rk, mi.git_rev, mine, &cells);
     if (status == 0) {
         print_found(o, csv_path, &found, &cells);
-        check_pairs(o, "run", rk, true);
         status = write_run_info(o, info_path, &mi, &cells, o->shard_n ? shard_line : NULL);
     }
+    if (status == 0) check_pairs(o, "run", rk, true);
 
     cell_settings settings = {.threads = o->threads, .repeat = o->repeat, .width = o->wl.width, .height = o->wl.height,
                               .spp = o->wl.spp, .warm_passes = o->warm_passes, .mi = &mi};
