@@ -2,7 +2,8 @@
  *
  *   accelbench scene info SCENE [SCENE ...] [--view SPEC] [--up AXIS] [--light X,Y,Z] [--memcap MIB]
  *                                                                         counts by kind, bounds, lights, view, hash
- *   accelbench scene export SCENE --nff FILE [--memcap MIB]                 the scene as NFF (exact %.9g round trip)
+ *   accelbench scene export SCENE --nff FILE [--view SPEC] [--up AXIS] [--light X,Y,Z] [--memcap MIB]
+ *                                                                         the scene as NFF (exact %.9g round trip)
  * A view is given as SCENE@VIEW or --view, --up and --light, as for run (scene_load applies it);
  * --memcap is the memory cap a generated scene's estimate is checked
  * against before it is generated (scenes/memory_cap.h). */
@@ -21,11 +22,12 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: accelbench scene info SCENE [SCENE ...] [--view SPEC] [--up AXIS] [--light X,Y,Z ...] [--memcap MIB]\n"
-            "       accelbench scene export SCENE --nff FILE [--memcap MIB]\n"
+            "       accelbench scene export SCENE --nff FILE [--view SPEC] [--up AXIS] [--light X,Y,Z ...] [--memcap MIB]\n"
             "  info    primitive counts by kind, bounds, lights, view and a hash of the primitives\n"
             "          (the same hash for the same geometry, whatever file or generator it came from);\n"
             "          SCENE@VIEW or --view 'eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG;light=X,Y,Z' moves the camera\n"
-            "  export  write the scene as NFF; reading it back gives the same hash\n"
+            "  export  write the scene as NFF, with its camera and lights (those of the view options too); reading it\n"
+            "          back gives the same hash\n"
             "%s"
             "  --memcap MIB  refuse a scene estimated above MIB MiB before making it (default: half the memory\n"
             "                this process may use; README: Limits and resources)\n", SCENE_UP_LIGHT_USAGE);
@@ -70,6 +72,41 @@ static int take_memcap(int argc, char **argv, int *i, const char *action, bool *
     return 0;
 }
 
+/* --view, --up or --light at argv[*i] (also as --OPTION=VALUE), added to the one view spec they make, as for run
+ * (options.c): 1 when argv[*i] is none of them, 0 when taken (the value next too), 2 after the error line. */
+static int take_view(int argc, char **argv, int *i, const char *action, char *spec, size_t speclen, bool *view_given)
+{
+    static const char *const view_opts[] = {"view", "up", "light"};
+    const char *opt = NULL, *value = NULL;
+    for (int k = 0; k < 3 && !opt; k++) {
+        size_t n = strlen(view_opts[k]);
+        if (strncmp(argv[*i], "--", 2) || strncmp(argv[*i] + 2, view_opts[k], n)) continue;
+        if (argv[*i][2 + n] == '=') opt = view_opts[k], value = argv[*i] + 3 + n;
+        else if (!argv[*i][2 + n]) opt = view_opts[k], value = *i + 1 < argc ? argv[++*i] : NULL;
+    }
+    if (!opt) return 1;
+    if (!value || (*view_given && *opt == 'v')) {
+        fprintf(stderr, "accelbench scene %s: %s\n", action, !value ? (*opt == 'v' ? "--view needs a SPEC" : *opt == 'u'
+                        ? "--up needs X, Y, Z or auto" : "--light needs X,Y,Z") : "--view given twice");
+        return 2;
+    }
+    *view_given |= *opt == 'v';
+    char err[1024];
+    if (scene_view_option(spec, speclen, opt, value, err, sizeof err) != 0) {
+        fprintf(stderr, "accelbench: %s\n", err);
+        return 2;
+    }
+    return 0;
+}
+
+/* name with the view spec, if any, as SCENE@SPEC into out; false after the error line when it does not fit. */
+static bool with_view(const char *name, const char *spec, char *out, size_t len, const char *action)
+{
+    if (snprintf(out, len, "%s%s%s", name, *spec ? "@" : "", spec) < (int)len) return true;
+    fprintf(stderr, "accelbench scene %s: '%.60s...': the name with its view is too long\n", action, name);
+    return false;
+}
+
 int scene_cmd_main(int argc, char **argv)
 {
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
@@ -79,7 +116,6 @@ int scene_cmd_main(int argc, char **argv)
     char err[512];
     if (!strcmp(argv[1], "info")) {
         char spec[1024] = "";
-        const char *view = NULL;
         int nnames = 0;
         bool memcap = false, view_given = false;
         for (int i = 2; i < argc; i++) {
@@ -87,30 +123,9 @@ int scene_cmd_main(int argc, char **argv)
                 if (take_memcap(argc, argv, &i, "info", &memcap)) return 2;
                 continue;
             }
-            /* --view, --up and --light (also as --OPTION=VALUE) make one view spec, as for run (options.c). */
-            static const char *const view_opts[] = {"view", "up", "light"};
-            const char *opt = NULL, *value = NULL;
-            for (int k = 0; k < 3 && !opt; k++) {
-                size_t n = strlen(view_opts[k]);
-                if (strncmp(argv[i], "--", 2) || strncmp(argv[i] + 2, view_opts[k], n)) continue;
-                if (argv[i][2 + n] == '=') opt = view_opts[k], value = argv[i] + 3 + n;
-                else if (!argv[i][2 + n]) opt = view_opts[k], value = i + 1 < argc ? argv[++i] : NULL;
-            }
-            if (!opt) {
-                argv[2 + nnames++] = argv[i];
-                continue;
-            }
-            if (!value || (view_given && *opt == 'v')) {
-                fprintf(stderr, "accelbench scene info: %s\n", !value ? (*opt == 'v' ? "--view needs a SPEC" : *opt == 'u'
-                                ? "--up needs X, Y, Z or auto" : "--light needs X,Y,Z") : "--view given twice");
-                return 2;
-            }
-            view_given |= *opt == 'v';
-            if (scene_view_option(spec, sizeof spec, opt, value, err, sizeof err) != 0) {
-                fprintf(stderr, "accelbench: %s\n", err);
-                return 2;
-            }
-            view = spec;
+            int taken = take_view(argc, argv, &i, "info", spec, sizeof spec, &view_given);
+            if (taken == 2) return 2;
+            if (taken == 1) argv[2 + nnames++] = argv[i];
         }
         if (nnames == 0) {
             fprintf(stderr, "accelbench scene info: name a scene (see accelbench list scenes)\n");
@@ -119,10 +134,7 @@ int scene_cmd_main(int argc, char **argv)
         for (int i = 2; i < 2 + nnames; i++) {
             double t0 = clock_ms();
             char name[4096];
-            if (snprintf(name, sizeof name, "%s%s%s", argv[i], view ? "@" : "", view ? view : "") >= (int)sizeof name) {
-                fprintf(stderr, "accelbench scene info: '%.60s...': the name with its view is too long\n", argv[i]);
-                return 2;
-            }
+            if (!with_view(argv[i], spec, name, sizeof name, "info")) return 2;
             scene_t *s = scene_load(name, err, sizeof err);
             if (!s) {
                 fprintf(stderr, "accelbench: %s\n", err);
@@ -136,8 +148,12 @@ int scene_cmd_main(int argc, char **argv)
     }
     if (!strcmp(argv[1], "export")) {
         const char *nff = NULL;
-        bool memcap = false;
+        char spec[1024] = "", name[4096];
+        bool memcap = false, view_given = false;
         for (int i = 3; i < argc; i++) {
+            int taken = !strcmp(argv[i], "--memcap") ? 1 : take_view(argc, argv, &i, "export", spec, sizeof spec, &view_given);
+            if (taken == 2) return 2;
+            if (taken == 0) continue;
             if (!strcmp(argv[i], "--memcap")) {
                 if (take_memcap(argc, argv, &i, "export", &memcap)) return 2;
             } else if (!strcmp(argv[i], "--nff") && i + 1 < argc && !nff) {
@@ -148,10 +164,12 @@ int scene_cmd_main(int argc, char **argv)
             }
         }
         if (argc < 3 || !nff) {
-            fprintf(stderr, "accelbench scene export: usage: accelbench scene export SCENE --nff FILE [--memcap MIB]\n");
+            fprintf(stderr, "accelbench scene export: usage: accelbench scene export SCENE --nff FILE [--view SPEC] [--up AXIS] "
+                            "[--light X,Y,Z ...] [--memcap MIB]\n");
             return 2;
         }
-        scene_t *s = scene_load(argv[2], err, sizeof err);
+        if (!with_view(argv[2], spec, name, sizeof name, "export")) return 2;
+        scene_t *s = scene_load(name, err, sizeof err);
         if (!s) {
             fprintf(stderr, "accelbench: %s\n", err);
             return 2;

@@ -56,6 +56,10 @@ expect 0 "floor.obj@up=X +primary +grid" -- "$AB" verify --scenes "$T/floor.obj"
     --up X --res 8x8
 expect 0 "" -- "$AB" render --scene "$T/floor.obj" --accel grid --up Z --light 0,0,40 --res 8x8 --out "$T/floor.png"
 [ -s "$T/floor.png" ] && ok || bad "render --up --light wrote no picture"
+# scene export writes the view the options make
+expect 0 "wrote $T/floor.nff" -- "$AB" scene export "$T/floor.obj" --nff "$T/floor.nff" --up X --light=0,0,40
+grep -qx "up 1 0 0" "$T/floor.nff" && grep -qx "l 0 0 40" "$T/floor.nff" && ok || bad "scene export --up --light: $(grep -E '^(up|l) ' "$T/floor.nff")"
+refused "--up Q: 'up=Q'" -- "$AB" scene export "$T/floor.obj" --nff "$T/q.nff" --up Q
 # Catalogue and generated scenes keep their cameras and lights exactly (these lines are the ones before --up
 # existed): bunny's automatic camera, spd:balls:2's own, buildings' named view.
 same "spd:balls:2 view" "$(info_line spd:balls:2 view)" \
