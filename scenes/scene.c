@@ -131,12 +131,12 @@ static const char *what(const scene_t *s)
 }
 
 /* The axis (SCENE_UP_X, _Y or _Z) that axis stands for in s: AUTO is the
- * thinnest extent, ties going to Y, then Z; LEGACY is Z when Y alone is the
- * thinnest, else Y. */
+ * thinnest extent, ties going to Y, then Z; CATALOGUE is Z when Y alone is
+ * the thinnest, else Y. */
 static int resolve_axis(const scene_t *s, int axis)
 {
     vec3 e = box_extent(s->bounds);
-    if (axis == SCENE_UP_LEGACY) return e.y < e.x && e.y < e.z ? SCENE_UP_Z : SCENE_UP_Y;
+    if (axis == SCENE_UP_CATALOGUE) return e.y < e.x && e.y < e.z ? SCENE_UP_Z : SCENE_UP_Y;
     if (axis != SCENE_UP_AUTO) return axis;
     if (e.y <= e.x && e.y <= e.z) return SCENE_UP_Y;
     return e.z <= e.x ? SCENE_UP_Z : SCENE_UP_X;
@@ -230,7 +230,7 @@ int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen)
         material_t grey = {v3(0.8f, 0.8f, 0.8f), 0.8f, 0.2f, 0.0f, 1.0f};
         scene_set_material_upto(s, scene_add_material(s, grey));
     }
-    if (!has_camera) default_camera(s, SCENE_UP_LEGACY);
+    if (!has_camera) default_camera(s, SCENE_UP_CATALOGUE);
     snprintf(s->view, sizeof s->view, "%s", has_camera ? "source" : "automatic");
     s->made_up = (has_camera ? 0 : SCENE_MADE_CAMERA) | (s->nlights ? 0 : SCENE_MADE_LIGHTS);
     if (s->nlights == 0) default_lights(s);

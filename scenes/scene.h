@@ -85,9 +85,10 @@ typedef struct scene {
  * A catalogue scene starts from its default view when it has one (sibenik
  * and sponza look from inside). A file without a camera of its own (PATH,
  * file:PATH) is seen upright on its thinnest extent (SCENE_UP_AUTO), lit by
- * the automatic lights above it; a catalogue mesh keeps SCENE_UP_LEGACY. Returns the scene, named as given, or NULL
- * with a one-line reason in err that names the file (and line where the
- * loader knows it), or the view and the known view names. */
+ * the automatic lights above it; a catalogue mesh keeps SCENE_UP_CATALOGUE.
+ * Returns the scene, named as given, or NULL with a one-line reason in err
+ * that names the file (and line where the loader knows it), or the view and
+ * the known view names. */
 scene_t *scene_load(const char *name, char *err, size_t errlen);
 void scene_free(scene_t *s);
 /* What scene_load(name) would refuse without reading any file: a bad or
@@ -141,9 +142,10 @@ bool scene_path_find(const char *file, char *out, size_t outlen, char *where, si
 /* An up axis (a view's up=X|Y|Z|auto, the command line's --up). AUTO is
  * the scene's thinnest bounding-box extent, ties going to Y, then Z: a
  * terrain, a floor plan or a city block is flattest along its up axis.
- * LEGACY is the automatic camera's rule for catalogue meshes (Y up, Z when
- * Y alone is thinnest), kept so that their rays stay what they were. */
-enum { SCENE_UP_NONE, SCENE_UP_X, SCENE_UP_Y, SCENE_UP_Z, SCENE_UP_AUTO, SCENE_UP_LEGACY };
+ * CATALOGUE is the catalogue meshes' automatic camera (Y up, Z when Y alone
+ * is the thinnest extent): the camera their named views, recorded results
+ * and tests are made for, so it does not follow the rule for user files. */
+enum { SCENE_UP_NONE, SCENE_UP_X, SCENE_UP_Y, SCENE_UP_Z, SCENE_UP_AUTO, SCENE_UP_CATALOGUE };
 
 typedef struct {
     unsigned given;   /* SCENE_VIEW_* bits: the parts set */
@@ -283,9 +285,9 @@ void scene_set_material_upto(scene_t *s, uint16_t material);
  * bounds, defaults for what the source did not give, and the view's
  * ranges (scene_check_view). has_camera false: a camera looking at the bounds centre from the
  * (1, 0.6, 0.8) direction with y up (z up, looking from (1, 0.8, 0.6), when
- * the bounds are thinnest in y: SCENE_UP_LEGACY; scene_load gives a user's
- * mesh file SCENE_UP_AUTO through scene_set_up_axis), far enough that the bounding sphere
- * fills the 45 degree view, 512x512. No lights: two point lights above and
+ * the bounds are thinnest in y: SCENE_UP_CATALOGUE; scene_load turns a
+ * user's mesh file to SCENE_UP_AUTO with scene_set_up_axis), far enough that
+ * the bounding sphere fills the 45 degree view, 512x512. No lights: two point lights above and
  * behind the camera, outside the bounds. Primitives without a material: a
  * grey one (kd 0.8, ks 0.2). Returns 0, or -1 with "SOURCE: reason" in err
  * (SOURCE is s->source, else s->name), e.g. "x.obj: no primitives". */
