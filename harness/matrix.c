@@ -878,8 +878,8 @@ int matrix_verify(options *o)
     /* The whole in one line: only real mismatches fail verify; the other classes are the reference's or the
      * judge's (README: verification). */
     if (!status) {
-        printf("total: %llu cells, %llu rays: %llu real mismatches; not real: edge %llu, origin %llu, tol %llu, "
-               "refwrong %llu, unjudged %llu; exit %d: %s\n", (unsigned long long)ncells, (unsigned long long)nrays,
+        printf("total: %llu cells, %llu rays: %llu real mismatches; the classes that do not fail verify: edge %llu, "
+               "origin %llu, tol %llu, refwrong %llu, unjudged %llu; exit %d: %s\n", (unsigned long long)ncells, (unsigned long long)nrays,
                (unsigned long long)by_class[MM_REAL], (unsigned long long)by_class[MM_EDGE],
                (unsigned long long)by_class[MM_ORIGIN], (unsigned long long)by_class[MM_TOL],
                (unsigned long long)by_class[MM_REFWRONG], (unsigned long long)by_class[MM_UNJUDGED], any_real ? 1 : 0,

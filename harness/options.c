@@ -93,6 +93,8 @@ void options_usage(FILE *out, const char *cmd)
             "  --save-rays PATH        save the ray sets (a file for one set, else a folder)\n"
             "  --judge-seconds S       time the exact judge may spend on one cell's disputed rays; rays past it\n"
             "                          are counted as unjudged (default %g; 0 = no limit)\n"
+            "  A shadow-only accelerator (lightbuf) makes no cell of a closest-hit workload: each such pair is said\n"
+            "  on stderr; when no cell at all is left, the command exits 2 with one line saying why.\n"
             "%s%s",
             cmd, VERIFY_JUDGE_SECONDS, VIEW_USAGE, MEMCAP_USAGE);
     if (strcmp(cmd, "run") == 0)
@@ -114,6 +116,8 @@ void options_usage(FILE *out, const char *cmd)
     else
         fprintf(out,
                 "  --ray I                 replay ray I: print every answer and the exact judge's t for each\n"
+                "  The table ends in one line: total: cells, rays, real mismatches, the counts of the classes that do\n"
+                "  not fail verify (edge, origin, tol, refwrong, unjudged) and what the exit status is.\n"
                 "  Exit status: 0 when no real mismatch, 1 on any real mismatch, 2 on bad input.\n");
 }
 
