@@ -6,7 +6,7 @@
  *   accelbench merge   DIR... --out DIR                          shard folders of run --shard K/N -> one CSV
  *   accelbench verify  --scenes L --accels L --workloads L [...]   agreement with Embree
  *   accelbench render  --scene S --accel A --out FILE.png [...]    image or cost heat map
- *   accelbench reproduce woo92 [--out DIR] [--quick] [...]          a paper's tables with our numbers
+ *   accelbench reproduce woo92|havran|spd [--out DIR] [--quick] [...]  a paper's tables with our numbers
  *   accelbench report RUN_DIR [--out FILE.html]                     the run folder as one HTML page
  *
  * Exit status: 0 success, 1 verify found a real mismatch or run could not
@@ -34,10 +34,13 @@ static void usage(FILE *out)
             "  merge    DIR... --out DIR: the folders of run --shard K/N into one matrix.csv, every cell once\n"
             "  verify   every ray's answer against Embree; mismatches classified and replayable\n"
             "  render   a shaded image or a per-pixel cost heat map through one accelerator\n"
-            "  reproduce woo92   Woo 1992's Tables 1-4 and an ablation, re-run: our numbers, verified\n"
+            "  reproduce EXPERIMENT   a paper's tables re-run with our numbers, verified against Embree:\n");
+    reproduce_list(out, "    ", 6);
+    fprintf(out,
             "  report   RUN_DIR: one self-contained HTML page of a run folder (table, plots, heat maps, fits)\n"
             "  scene    info SCENE (counts, bounds, view, hash) | export SCENE --nff FILE\n"
             "  version  the build's git revision\n"
+            "  help     this text (also --help, -h)\n"
             "\n"
             "example: accelbench run --scenes spd:balls:3,bunny --accels exhaustive,embree --res 64x64\n");
 }

@@ -172,6 +172,42 @@ static bool accel_runs_workload(const struct accel_ops *ops, query_kind q)
     return !(ops->flags & ACCEL_SHADOW_ONLY) || q == QUERY_ANY;
 }
 
+/* The (accelerator, workload) pairs no cell is made of, said before any
+ * work: one line per accelerator that skips some workload, naming them and
+ * why (say_skips, once the command's other checks have passed). When the
+ * pairs leave no cell at all, only one line saying why, and 2: a command
+ * that measures nothing should not look like a success. replay is the --rays
+ * file's set (its query decides), or NULL. Returns 0 or 2. */
+static int check_pairs(const options *o, const char *cmd, const rayset_t *replay, bool say_skips)
+{
+    int nw = replay ? 1 : o->nworkloads, made = 0;
+    for (int ai = 0; ai < o->naccels; ai++)
+        for (int wi = 0; wi < nw; wi++)
+            made += accel_runs_workload(o->accels[ai].ops, replay ? replay->query : o->workloads[wi]->query);
+    char names[1024];
+    for (int ai = 0; ai < o->naccels; ai++) {
+        const accel_config *ac = &o->accels[ai];
+        size_t n = 0;
+        names[0] = '\0';
+        for (int wi = 0; wi < nw; wi++) {
+            if (accel_runs_workload(ac->ops, replay ? replay->query : o->workloads[wi]->query)) continue;
+            const char *wname = replay ? o->rays_file : o->workloads[wi]->name;
+            if (n < sizeof names) n += (size_t)snprintf(names + n, sizeof names - n, "%s%s", n ? ", " : "", term_text(wname));
+        }
+        if (!n) continue;
+        if (made == 0) { /* no cell at all: the one line names the first reason (every pair has the same kind) */
+            fprintf(stderr, "accelbench %s: no cell to %s: %s answers only shadow (any-hit) rays and %s %s closest-hit "
+                            "rays (add --workloads shadow, or an accelerator that answers closest hits)\n", cmd,
+                    !strcmp(cmd, "run") ? "measure" : "check", ac->label, names, replay || nw == 1 ? "asks for" : "ask for");
+            return 2;
+        }
+        if (say_skips && !o->quiet)
+            fprintf(stderr, "accelbench %s: skipped %s x %s: %s answers only shadow (any-hit) rays, %s closest-hit\n", cmd,
+                    ac->label, names, ac->label, replay || nw == 1 ? "that one is" : "those are");
+    }
+    return 0;
+}
+
 /* Load scene number si, build its reference and its verifier; errors go
  * to stderr and give NULL. */
 static scene_t *open_scene(const options *o, int si, accel **ref, verifier_t **ver)
@@ -557,7 +593,7 @@ int matrix_run(options *o)
         }
     }
     int nw = o->rays_file ? 1 : o->nworkloads;
-    if (save_rays_check(o, o->nscenes * nw)) {
+    if (check_pairs(o, "run", replay, false) || save_rays_check(o, o->nscenes * nw)) {
         rayset_free(replay);
         return 2;
     }
@@ -602,6 +638,7 @@ int matrix_run(options *o)
         print_found(o, csv_path, &found, &cells);
         status = write_run_info(o, info_path, &mi, &cells, o->shard_n ? shard_line : NULL);
     }
+    if (status == 0) check_pairs(o, "run", rk, true);
 
     cell_settings settings = {.threads = o->threads, .repeat = o->repeat, .width = o->wl.width, .height = o->wl.height,
                               .spp = o->wl.spp, .warm_passes = o->warm_passes, .mi = &mi};
@@ -776,11 +813,13 @@ int matrix_verify(options *o)
             return 2;
         }
     }
-    if (save_rays_check(o, nsets)) {
+    if (check_pairs(o, "verify", replay, false) || save_rays_check(o, nsets)) {
         rayset_free(replay);
         return 2;
     }
     verify_widths w = table_widths(o);
+    uint64_t ncells = 0, nrays = 0, by_class[MM_CLASSES] = {0};
+    check_pairs(o, "verify", replay, true);
     printf("%-*s %-*s %-*s", w.scene, "scene", w.workload, "workload", w.accel, "accel");
     for (int k = 0; k < VERIFY_NCOUNTS; k++) printf(" %9s", verify_counts[k]);
     printf("\n");
@@ -823,6 +862,9 @@ int matrix_verify(options *o)
                 printf("\n");
                 if (vr->mismatches[MM_REAL]) any_real = true;
                 unjudged += vr->mismatches[MM_UNJUDGED];
+                ncells++;
+                nrays += in.rs->count;
+                for (int k = 0; k < MM_CLASSES; k++) by_class[k] += vr->mismatches[k];
                 if (o->ray_index >= 0) replay_ray(s, ver, in.rs, (uint32_t)o->ray_index, wc.got, in.ref_answers, ac->ops->name);
                 else
                     for (uint32_t k = 0; k < vr->nlisted; k++) print_mismatch(o, in.rs, &vr->listed[k], ac, o->scenes[si]);
@@ -833,6 +875,17 @@ int matrix_verify(options *o)
         close_scene(s, ref, ver);
     }
     rayset_free(replay); /* NULL once a cell took it */
+    /* The whole in one line: only real mismatches fail verify; the other classes are the reference's or the
+     * judge's (docs/method.md: verification). */
+    if (!status) {
+        printf("total: %llu cells, %llu rays: %llu real mismatches; the classes that do not fail verify: edge %llu, "
+               "origin %llu, tol %llu, refwrong %llu, unjudged %llu; exit %d: %s\n", (unsigned long long)ncells, (unsigned long long)nrays,
+               (unsigned long long)by_class[MM_REAL], (unsigned long long)by_class[MM_EDGE],
+               (unsigned long long)by_class[MM_ORIGIN], (unsigned long long)by_class[MM_TOL],
+               (unsigned long long)by_class[MM_REFWRONG], (unsigned long long)by_class[MM_UNJUDGED], any_real ? 1 : 0,
+               any_real ? "real mismatches found (listed above, each with the command that replays it)"
+                        : "no real mismatch");
+    }
     fflush(stdout);
     if (unjudged)
         fprintf(stderr, "accelbench: %llu disputed rays were left unjudged: the judge's budget (--judge-seconds %g) ran out\n",

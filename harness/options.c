@@ -17,7 +17,8 @@
 #include <unistd.h>
 
 enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
-       OPT_VIEW, OPT_REDO, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL, OPT_SHARD, OPT_REPORT, OPT_HEATMAP_MAX };
+       OPT_VIEW, OPT_REDO, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL, OPT_SHARD, OPT_REPORT, OPT_HEATMAP_MAX,
+       OPT_UP, OPT_LIGHT };
 
 static const struct option long_opts[] = {
     {"scenes", required_argument, NULL, 's'},  {"scene", required_argument, NULL, 's'},
@@ -33,6 +34,7 @@ static const struct option long_opts[] = {
     {"heatmap", required_argument, NULL, OPT_HEATMAP}, {"quiet", no_argument, NULL, 'q'},
     {"judge-seconds", required_argument, NULL, OPT_JUDGE_SECONDS},
     {"view", required_argument, NULL, OPT_VIEW},
+    {"up", required_argument, NULL, OPT_UP}, {"light", required_argument, NULL, OPT_LIGHT},
     {"memcap", required_argument, NULL, OPT_MEMCAP},
     {"redo", no_argument, NULL, OPT_REDO},
     {"warm-passes", no_argument, NULL, OPT_WARM_PASSES},
@@ -43,8 +45,9 @@ static const struct option long_opts[] = {
 };
 
 #define VIEW_USAGE \
-    "  --view 'SPEC'           look from elsewhere: any of eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG, applied to every\n" \
-    "                          scene after loading (as SCENE@SPEC; catalogue views: SCENE@NAME, accelbench list scenes)\n"
+    "  --view 'SPEC'           look from elsewhere: any of eye=X,Y,Z;at=X,Y,Z;up=X,Y,Z;fov=DEG;light=X,Y,Z, applied to\n" \
+    "                          every scene after loading (as SCENE@SPEC; catalogue views: SCENE@NAME, accelbench list scenes)\n" \
+    SCENE_UP_LIGHT_USAGE
 
 #define MEMCAP_USAGE \
     "  --memcap MIB            refuse work estimated above MIB MiB before allocating it (default: half the memory\n" \
@@ -90,6 +93,8 @@ void options_usage(FILE *out, const char *cmd)
             "  --save-rays PATH        save the ray sets (a file for one set, else a folder)\n"
             "  --judge-seconds S       time the exact judge may spend on one cell's disputed rays; rays past it\n"
             "                          are counted as unjudged (default %g; 0 = no limit)\n"
+            "  A shadow-only accelerator (lightbuf) makes no cell of a closest-hit workload: each such pair is said\n"
+            "  on stderr; when no cell at all is left, the command exits 2 with one line saying why.\n"
             "%s%s",
             cmd, VERIFY_JUDGE_SECONDS, VIEW_USAGE, MEMCAP_USAGE);
     if (strcmp(cmd, "run") == 0)
@@ -111,6 +116,8 @@ void options_usage(FILE *out, const char *cmd)
     else
         fprintf(out,
                 "  --ray I                 replay ray I: print every answer and the exact judge's t for each\n"
+                "  The table ends in one line: total: cells, rays, real mismatches, the counts of the classes that do\n"
+                "  not fail verify (edge, origin, tol, refwrong, unjudged) and what the exit status is.\n"
                 "  Exit status: 0 when no real mismatch, 1 on any real mismatch, 2 on bad input.\n");
 }
 
@@ -263,7 +270,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     const char *accels_arg = all_accels, *workloads_arg = NULL, *shadow_arg = NULL;
     const char *params[OPT_LIST_MAX];
     int nparams = 0;
-    bool res_given = false;
+    bool res_given = false, view_given = false;
     long v;
     int c;
     optind = 1;
@@ -401,18 +408,22 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             }
             break;
         }
-        case OPT_VIEW: {
-            scene_view v;
-            char why[512];
-            if (o->view) {
-                fprintf(stderr, "accelbench: --view given twice ('%s', then '%s')\n", o->view, optarg);
+        case OPT_VIEW:
+        case OPT_UP:
+        case OPT_LIGHT: {
+            /* --view, --up and --light make one view spec, parsed whole as each is added. */
+            char why[1024];
+            const char *opt = c == OPT_VIEW ? "view" : c == OPT_UP ? "up" : "light";
+            if (c == OPT_VIEW && view_given) {
+                fprintf(stderr, "accelbench: --view given twice (then '%s')\n", optarg);
                 return 2;
             }
-            if (scene_view_parse(optarg, &v, why, sizeof why) != 0) {
-                fprintf(stderr, "accelbench: --view %s: %s\n", optarg, why);
+            view_given |= c == OPT_VIEW;
+            if (scene_view_option(o->view_spec, sizeof o->view_spec, opt, optarg, why, sizeof why) != 0) {
+                fprintf(stderr, "accelbench: %s\n", why);
                 return 2;
             }
-            o->view = optarg;
+            o->view = o->view_spec;
             break;
         }
         case 'q': o->quiet = true; break;

@@ -11,6 +11,19 @@
 /* The longest --out, --save-rays and --rays path, in bytes (longer ones are refused, never cut). */
 #define OPT_PATH_MAX 1023
 
+/* --up and --light, as run, verify, render and scene info take them. */
+#define SCENE_UP_LIGHT_USAGE \
+    "  --up X|Y|Z|auto         the up axis of the camera: a scene with no camera of its own (a mesh file, a catalogue\n" \
+    "                          mesh without a named view) gets its automatic camera and lights built around it; a\n" \
+    "                          camera of the scene's (NFF, spd:, gen:, a named view) keeps its eye and look-at and\n" \
+    "                          turns its up vector to it. auto: the scene's thinnest bounding-box extent, ties to Y,\n" \
+    "                          then Z. Default: auto for a mesh file (file:PATH or a path) without a view; a catalogue\n" \
+    "                          mesh keeps Y (Z when Y alone is thinnest). Same as the view part up=AXIS\n" \
+    "  --light X,Y,Z           a point light at X,Y,Z; repeatable up to 4 times; the lights given replace the scene's\n" \
+    "                          (its own, or the automatic two above and behind the camera). Same as the part light=X,Y,Z\n" \
+    "                          --view, --up and --light make one view, applied to every scene: the CSV's scene column\n" \
+    "                          says it (mesh.obj@up=Z;light=0,0,9)\n"
+
 typedef struct {
     const struct accel_ops *ops;
     accel_params params;
@@ -48,7 +61,9 @@ typedef struct {
     bool res_given;       /* --res was on the command line */
     double judge_seconds; /* the exact judge's time budget per cell (0: none) */
     char *argv_line;      /* the command as typed, for run.txt */
-    const char *view;     /* --view SPEC (scene_view_parse), or NULL; every scenes[i] then ends in "@SPEC" */
+    const char *view;     /* --view, --up and --light as one view spec (view_spec), or NULL; every scenes[i] then
+                           * ends in "@SPEC" */
+    char view_spec[1024];
     char *view_names;     /* the storage of those scene names */
     uint64_t memcap_mib;  /* --memcap MIB, 0 for the default (scenes/memory_cap.h, harness/resources.h) */
     char **owned;         /* copies of option strings the lists point into, freed by options_free */

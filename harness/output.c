@@ -96,7 +96,8 @@ int spawn_wait(char *const argv[])
     pid_t pid = fork();
     if (pid < 0) return -1;
     if (pid == 0) {
-        execv(argv[0], argv);
+        if (strchr(argv[0], '/')) execv(argv[0], argv);
+        else execvp(argv[0], argv);
         fprintf(stderr, "accelbench: cannot run %s: %s\n", argv[0], strerror(errno));
         _exit(127);
     }
@@ -104,6 +105,13 @@ int spawn_wait(char *const argv[])
     while (waitpid(pid, &st, 0) < 0)
         if (errno != EINTR) return -1;
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+const char *python_interpreter(void)
+{
+    const char *env = getenv("ACCELBENCH_PYTHON");
+    if (env && *env) return env;
+    return access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
 }
 
 void run_plot_script(const char *script, const char *csv_path, bool quiet)
@@ -117,7 +125,7 @@ void run_plot_script(const char *script, const char *csv_path, bool quiet)
         self[n] = 0;
         setenv("ACCELBENCH", self, 0);
     }
-    char *argv[] = {"/usr/bin/python3", path, (char *)csv_path, quiet ? "--quiet" : NULL, NULL};
+    char *argv[] = {(char *)python_interpreter(), path, (char *)csv_path, quiet ? "--quiet" : NULL, NULL};
     int rc = spawn_wait(argv);
     if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
 }

@@ -28,13 +28,21 @@ int output_replaceable(const char *path, char *err, size_t errlen);
  * or 2 after printing a one-line error. */
 int output_folder(const char *given, const char *prefix, char *out, size_t outlen);
 
-/* Run argv[0] (an absolute path) with the arguments argv (NULL-terminated)
- * and wait for it: no shell, so paths may hold any character. Returns its
- * exit status, or -1 when it could not be started or did not exit. */
+/* Run argv[0] (a path, or a bare name looked up on PATH) with the arguments
+ * argv (NULL-terminated) and wait for it: no shell, so paths may hold any
+ * character. Returns its exit status, or -1 when it could not be started or
+ * did not exit. */
 int spawn_wait(char *const argv[]);
 
-/* Run scripts/SCRIPT on a CSV with the system python (matplotlib comes from
- * Debian's python3-matplotlib); a failure is a warning, the CSV stands. */
+/* The python that runs the plot and report scripts: $ACCELBENCH_PYTHON when
+ * set, else /usr/bin/python3 when it exists (Debian's, which
+ * python3-matplotlib and python3-numpy install into), else python3 on PATH.
+ * Not python3 on PATH first: a virtualenv or a conda python ahead of it
+ * usually lacks matplotlib. */
+const char *python_interpreter(void);
+
+/* Run scripts/SCRIPT on a CSV with python_interpreter(); a failure is a
+ * warning, the CSV stands. */
 void run_plot_script(const char *script, const char *csv_path, bool quiet);
 
 #endif

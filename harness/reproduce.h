@@ -21,6 +21,9 @@
 /* argv[0] is "reproduce". */
 int reproduce_main(int argc, char **argv);
 void reproduce_usage(FILE *out);
+/* One line per experiment, "INDENTreproduce NAME SUMMARY" with the name
+ * padded to width: the list accelbench --help shows. */
+void reproduce_list(FILE *out, const char *indent, int width);
 
 /* The experiments: argv[0] is the experiment's name; each prints its own
  * lines of the usage. */

@@ -58,7 +58,7 @@ int report_write(const char *dir, const char *out_html, const char *pictures, bo
     snprintf(script, sizeof script, "%s/scripts/report.py", ACCELBENCH_SOURCE_DIR);
     ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
     self[n > 0 ? n : 0] = 0;
-    char *argv[] = {"/usr/bin/python3", script, (char *)dir, "--out", out, "--accelbench", self, "--pictures",
+    char *argv[] = {(char *)python_interpreter(), script, (char *)dir, "--out", out, "--accelbench", self, "--pictures",
                     (char *)pictures, quiet ? "--quiet" : NULL, NULL};
     int rc = spawn_wait(argv);
     if (rc == 0) return 0;

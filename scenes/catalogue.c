@@ -67,17 +67,17 @@ static const named_view views[] = {
     /* Sibenik is y up and closed: the automatic camera sees its roof from
      * outside and its lights hang outside, where they light nothing inside. */
     {"sibenik", "nave",
-     {ALL_PARTS, {-18, -10, 0}, {0, -11, 0}, {0, 1, 0}, 45, 2, {{-6, -4, 0}, {6, -3, 2}}},
+     {ALL_PARTS, {-18, -10, 0}, {0, -11, 0}, {0, 1, 0}, 45, 2, {{-6, -4, 0}, {6, -3, 2}}, SCENE_UP_NONE},
      "inside the nave from the west end toward the altar, lit from inside; every eye ray hits a wall"},
     /* Sponza's bounds are thinnest in y, so the automatic camera even takes
      * it for z up; the courtyard view is ../shared/scenes/README.md's. */
     {"sponza", "courtyard",
-     {ALL_PARTS, {120, 18, -2}, {-100, 30, -2}, {0, 1, 0}, 60, 2, {{0, 120, 0}, {-80, 25, -2}}},
+     {ALL_PARTS, {120, 18, -2}, {-100, 30, -2}, {0, 1, 0}, 60, 2, {{0, 120, 0}, {-80, 25, -2}}, SCENE_UP_NONE},
      "the atrium from its east end along the courtyard, one light high in the open roof and one under the arcade"},
     /* The city block is z up but not thinnest in y, so the automatic camera
      * uses y up and sees it on its side; its lights were placed for that. */
     {"buildings", "above",
-     {ALL_PARTS, {300, -60, 150}, {122, 88, 10}, {0, 0, 1}, 45, 2, {{300, -200, 500}, {-100, 100, 400}}},
+     {ALL_PARTS, {300, -60, 150}, {122, 88, 10}, {0, 0, 1}, 45, 2, {{300, -200, 500}, {-100, 100, 400}}, SCENE_UP_NONE},
      "the block from above its south-east corner, z up, lit from above"},
 };
 #define VIEWS_N (sizeof views / sizeof views[0])

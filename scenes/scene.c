@@ -130,19 +130,38 @@ static const char *what(const scene_t *s)
     return s->source[0] ? s->source : s->name;
 }
 
+/* The axis (SCENE_UP_X, _Y or _Z) that axis stands for in s: AUTO is the
+ * thinnest extent, ties going to Y, then Z; CATALOGUE is Z when Y alone is
+ * the thinnest, else Y. */
+static int resolve_axis(const scene_t *s, int axis)
+{
+    vec3 e = box_extent(s->bounds);
+    if (axis == SCENE_UP_CATALOGUE) return e.y < e.x && e.y < e.z ? SCENE_UP_Z : SCENE_UP_Y;
+    if (axis != SCENE_UP_AUTO) return axis;
+    if (e.y <= e.x && e.y <= e.z) return SCENE_UP_Y;
+    return e.z <= e.x ? SCENE_UP_Z : SCENE_UP_X;
+}
+
+vec3 scene_up_vector(const scene_t *s, int axis)
+{
+    int a = resolve_axis(s, axis);
+    return a == SCENE_UP_X ? v3(1, 0, 0) : a == SCENE_UP_Z ? v3(0, 0, 1) : v3(0, 1, 0);
+}
+
 /* The default view: look at the centre of the bounds from a fixed octant,
  * just far enough that all eight box corners fall inside the 45 degree
- * field (with a 5% margin), so the model fills the frame. The up axis is
- * +y, the usual mesh convention, unless y is the thinnest extent, which
- * suggests a z-up model. */
-static void default_camera(scene_t *s)
+ * field (with a 5% margin), so the model fills the frame. The direction
+ * to the eye has 0.6 along the up axis for 1 and 0.8 along the other two
+ * (the Y and Z frames are the ones catalogue meshes are seen in). */
+static void default_camera(scene_t *s, int axis)
 {
-    vec3 c = box_center(s->bounds), e = box_extent(s->bounds);
+    vec3 c = box_center(s->bounds);
     float radius = 0.5f * box_diagonal(s->bounds);
     if (!(radius > 0.0f) || !isfinite(radius)) radius = 1.0f; /* a single point */
-    bool z_up = e.y < e.x && e.y < e.z;
-    vec3 up = z_up ? v3(0, 0, 1) : v3(0, 1, 0);
-    vec3 dir = v3_norm(z_up ? v3(1.0f, 0.8f, 0.6f) : v3(1.0f, 0.6f, 0.8f));
+    int a = resolve_axis(s, axis);
+    vec3 up = scene_up_vector(s, a);
+    vec3 dir = v3_norm(a == SCENE_UP_Z ? v3(1.0f, 0.8f, 0.6f) : a == SCENE_UP_Y ? v3(1.0f, 0.6f, 0.8f)
+                                                                                 : v3(0.6f, 0.8f, 1.0f));
     vec3 right = v3_norm(v3_cross(up, dir)), up2 = v3_cross(dir, right);
     const float tan_half = tanf(22.5f * (float)M_PI / 180.0f);
     /* A corner at depth z toward the eye and lateral offsets x, y is in
@@ -211,8 +230,9 @@ int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen)
         material_t grey = {v3(0.8f, 0.8f, 0.8f), 0.8f, 0.2f, 0.0f, 1.0f};
         scene_set_material_upto(s, scene_add_material(s, grey));
     }
-    if (!has_camera) default_camera(s);
+    if (!has_camera) default_camera(s, SCENE_UP_CATALOGUE);
     snprintf(s->view, sizeof s->view, "%s", has_camera ? "source" : "automatic");
+    s->made_up = (has_camera ? 0 : SCENE_MADE_CAMERA) | (s->nlights ? 0 : SCENE_MADE_LIGHTS);
     if (s->nlights == 0) default_lights(s);
     /* The source's view and lights, and also the defaults: within the
      * geometry's range they always fit, but the check is where rays start. */
@@ -221,4 +241,17 @@ int scene_finish(scene_t *s, bool has_camera, char *err, size_t errlen)
         return -1;
     }
     return 0;
+}
+
+void scene_set_up_axis(scene_t *s, int axis)
+{
+    if (!(s->made_up & SCENE_MADE_CAMERA)) {
+        s->camera.up = scene_up_vector(s, axis);
+        return;
+    }
+    default_camera(s, axis);
+    if (s->made_up & SCENE_MADE_LIGHTS) {
+        s->nlights = 0;
+        default_lights(s);
+    }
 }

@@ -61,7 +61,12 @@ typedef struct scene {
     char view[256];      /* where the camera came from: "automatic" (scene_finish's), "source" (the
                           * file's or generator's own), else the views applied, '@'-joined ("nave",
                           * "nave@eye=...") */
+    unsigned made_up;    /* SCENE_MADE_CAMERA, SCENE_MADE_LIGHTS: what scene_finish made up because the
+                          * source had none, and scene_set_up_axis may build again around another axis */
 } scene_t;
+
+#define SCENE_MADE_CAMERA 1u
+#define SCENE_MADE_LIGHTS 2u
 
 /* Make a scene from a name (scene_load.c):
  *   spd:balls:SIZE          SPD sphereflake, true spheres (SIZE 1..7, default 4)
@@ -73,13 +78,17 @@ typedef struct scene {
  *                           compressed.h); "file:PATH" forces the file reading.
  *   any of these @VIEW      then a view: a catalogue scene's named view
  *                           (sibenik@nave) or a view spec (scene_view_parse:
- *                           bunny@eye=1,2,3;fov=30); several apply in order
+ *                           bunny@eye=1,2,3;fov=30, x.obj@up=Z;light=0,0,9);
+ *                           several apply in order
  *                           (sibenik@nave@fov=60). The views are the '@' parts
  *                           after the last '/', unless the whole name is a file.
  * A catalogue scene starts from its default view when it has one (sibenik
- * and sponza look from inside). Returns the scene, named as given, or NULL
- * with a one-line reason in err that names the file (and line where the
- * loader knows it), or the view and the known view names. */
+ * and sponza look from inside). A file without a camera of its own (PATH,
+ * file:PATH) is seen upright on its thinnest extent (SCENE_UP_AUTO), lit by
+ * the automatic lights above it; a catalogue mesh keeps SCENE_UP_CATALOGUE.
+ * Returns the scene, named as given, or NULL with a one-line reason in err
+ * that names the file (and line where the loader knows it), or the view and
+ * the known view names. */
 scene_t *scene_load(const char *name, char *err, size_t errlen);
 void scene_free(scene_t *s);
 /* What scene_load(name) would refuse without reading any file: a bad or
@@ -136,21 +145,47 @@ bool scene_path_user_folder(char *out, size_t outlen);
 #define SCENE_VIEW_FOV 8u
 #define SCENE_VIEW_MAX_LIGHTS 4
 
+/* An up axis (a view's up=X|Y|Z|auto, the command line's --up). AUTO is
+ * the scene's thinnest bounding-box extent, ties going to Y, then Z: a
+ * terrain, a floor plan or a city block is flattest along its up axis.
+ * CATALOGUE is the catalogue meshes' automatic camera (Y up, Z when Y alone
+ * is the thinnest extent): the camera their named views, recorded results
+ * and tests are made for, so it does not follow the rule for user files. */
+enum { SCENE_UP_NONE, SCENE_UP_X, SCENE_UP_Y, SCENE_UP_Z, SCENE_UP_AUTO, SCENE_UP_CATALOGUE };
+
 typedef struct {
     unsigned given;   /* SCENE_VIEW_* bits: the parts set */
     vec3 eye, at, up;
     float fov_deg;    /* full vertical angle, as camera_t */
     uint32_t nlights; /* > 0: these replace the scene's lights */
     vec3 lights[SCENE_VIEW_MAX_LIGHTS];
+    int up_axis;      /* up=X|Y|Z|auto: a SCENE_UP_* (up is then unused); SCENE_UP_NONE for up=X,Y,Z */
 } scene_view;
 
 /* Parse a view spec strictly: numbers whole and finite, exactly three per
- * vector, fov in (0, 180), no unknown, repeated or empty part. Returns 0, or
- * -1 with a one-line reason naming the bad part in err. */
+ * vector, fov in (0, 180), no unknown, repeated or empty part. Two parts go
+ * beyond the camera: up=X|Y|Z|auto (an axis, see scene_set_up_axis) and
+ * light=X,Y,Z, repeatable up to SCENE_VIEW_MAX_LIGHTS times (the lights
+ * then replace the scene's). Returns 0, or -1 with a one-line reason naming
+ * the bad part in err. */
 int scene_view_parse(const char *spec, scene_view *v, char *err, size_t errlen);
 /* Apply v to s and append label to s->view. Fails (-1, err) when the result
  * is no camera: eye at `at`, up zero or along the view direction. */
 int scene_view_apply(scene_t *s, const scene_view *v, const char *label, char *err, size_t errlen);
+/* The command line's --view, --up AXIS and --light X,Y,Z as one view spec:
+ * append option's value to spec (--view SPEC as it is, --up as up=AXIS,
+ * --light as light=X,Y,Z; ';'-joined) and parse the whole, so that a
+ * conflict (--up with a --view that has up=) is found here. Returns 0, or -1
+ * with "--OPTION VALUE: reason" in err. */
+int scene_view_option(char *spec, size_t speclen, const char *option, const char *value, char *err, size_t errlen);
+/* The unit vector of axis (SCENE_UP_X .. SCENE_UP_AUTO) for s. */
+vec3 scene_up_vector(const scene_t *s, int axis);
+/* Turn s's camera up to axis. A camera scene_finish made up is made again
+ * around the axis (eye above the centre along it), and so are the lights
+ * when they were made up too; a camera of the source's or a view's keeps
+ * its eye and look-at and takes the axis as its up vector (which the
+ * caller checks with scene_check_view). */
+void scene_set_up_axis(scene_t *s, int axis);
 
 /* --- the ranges every scene lies in (scene_range.c) ---
  * Tracing works in single precision, so scene_finish refuses, with exit 2
@@ -256,8 +291,9 @@ void scene_set_material_upto(scene_t *s, uint16_t material);
  * bounds, defaults for what the source did not give, and the view's
  * ranges (scene_check_view). has_camera false: a camera looking at the bounds centre from the
  * (1, 0.6, 0.8) direction with y up (z up, looking from (1, 0.8, 0.6), when
- * the bounds are thinnest in y, as for z-up models), far enough that the bounding sphere
- * fills the 45 degree view, 512x512. No lights: two point lights above and
+ * the bounds are thinnest in y: SCENE_UP_CATALOGUE; scene_load turns a
+ * user's mesh file to SCENE_UP_AUTO with scene_set_up_axis), far enough that
+ * the bounding sphere fills the 45 degree view, 512x512. No lights: two point lights above and
  * behind the camera, outside the bounds. Primitives without a material: a
  * grey one (kd 0.8, ks 0.2). Returns 0, or -1 with "SOURCE: reason" in err
  * (SOURCE is s->source, else s->name), e.g. "x.obj: no primitives". */

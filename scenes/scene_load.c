@@ -91,8 +91,20 @@ static scene_t *load_spd(const char *name, char *err, size_t errlen)
     return g ? scene_spd(name, g->name, size, res, err, errlen) : NULL;
 }
 
-/* A file: NFF by its extension (also under .gz/.xz/.bz2), else assimp. */
+static scene_t *read_file(const char *name, const char *path, char *err, size_t errlen);
+
+/* A user's file: read_file's scene, whose made-up camera and lights (a
+ * file without a view) stand on the scene's own up axis, its thinnest
+ * extent (SCENE_UP_AUTO), since such files come z up as often as y up. */
 static scene_t *load_file(const char *name, const char *path, char *err, size_t errlen)
+{
+    scene_t *s = read_file(name, path, err, errlen);
+    if (s && (s->made_up & SCENE_MADE_CAMERA)) scene_set_up_axis(s, SCENE_UP_AUTO);
+    return s;
+}
+
+/* A file: NFF by its extension (also under .gz/.xz/.bz2), else assimp. */
+static scene_t *read_file(const char *name, const char *path, char *err, size_t errlen)
 {
     char base[1024];
     snprintf(base, sizeof base, "%s", path);

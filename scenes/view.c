@@ -11,11 +11,13 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
+/* light has no bit: it may be given up to SCENE_VIEW_MAX_LIGHTS times. */
 static const struct {
     const char *key;
     unsigned bit;
-} parts[] = {{"eye", SCENE_VIEW_EYE}, {"at", SCENE_VIEW_AT}, {"up", SCENE_VIEW_UP}, {"fov", SCENE_VIEW_FOV}};
+} parts[] = {{"eye", SCENE_VIEW_EYE}, {"at", SCENE_VIEW_AT}, {"up", SCENE_VIEW_UP}, {"fov", SCENE_VIEW_FOV}, {"light", 0}};
 #define NPARTS (sizeof parts / sizeof parts[0])
 
 /* Parse exactly n comma-separated finite numbers filling all of s. */
@@ -50,7 +52,7 @@ static int parse_part(const char *p, size_t len, scene_view *v, char *err, size_
     part[len] = '\0';
     char *eq = strchr(part, '=');
     if (!eq) {
-        snprintf(err, errlen, "'%s': expected KEY=VALUE (eye, at, up or fov)", part);
+        snprintf(err, errlen, "'%s': expected KEY=VALUE (eye, at, up, fov or light)", part);
         return -1;
     }
     *eq = '\0';
@@ -58,7 +60,7 @@ static int parse_part(const char *p, size_t len, scene_view *v, char *err, size_
     size_t k = 0;
     while (k < NPARTS && strcmp(part, parts[k].key) != 0) k++;
     if (k == NPARTS) {
-        snprintf(err, errlen, "'%s=%s': unknown part '%s' (known: eye, at, up, fov)", part, val, part);
+        snprintf(err, errlen, "'%s=%s': unknown part '%s' (known: eye, at, up, fov, light)", part, val, part);
         return -1;
     }
     if (v->given & parts[k].bit) {
@@ -66,6 +68,27 @@ static int parse_part(const char *p, size_t len, scene_view *v, char *err, size_
         return -1;
     }
     v->given |= parts[k].bit;
+    if (parts[k].bit == 0) {
+        float xyz[3];
+        if (v->nlights == SCENE_VIEW_MAX_LIGHTS) {
+            snprintf(err, errlen, "'light=%s': more than %d lights", val, SCENE_VIEW_MAX_LIGHTS);
+            return -1;
+        }
+        if (!parse_numbers(val, xyz, 3)) {
+            snprintf(err, errlen, "'light=%s': expected light=X,Y,Z, three finite numbers", val);
+            return -1;
+        }
+        v->lights[v->nlights++] = v3(xyz[0], xyz[1], xyz[2]);
+        return 0;
+    }
+    if (parts[k].bit == SCENE_VIEW_UP) {
+        static const char *const axes[] = {"X", "Y", "Z", "auto"};
+        for (int a = 0; a < 4; a++)
+            if (!strcasecmp(val, axes[a])) {
+                v->up_axis = SCENE_UP_X + a;
+                return 0;
+            }
+    }
     if (parts[k].bit == SCENE_VIEW_FOV) {
         if (!parse_numbers(val, &v->fov_deg, 1) || !(v->fov_deg > 0.0f && v->fov_deg < 180.0f)) {
             snprintf(err, errlen, "'fov=%s': expected an angle in degrees, 0 < DEG < 180", val);
@@ -76,7 +99,8 @@ static int parse_part(const char *p, size_t len, scene_view *v, char *err, size_
     vec3 *dst = parts[k].bit == SCENE_VIEW_EYE ? &v->eye : parts[k].bit == SCENE_VIEW_AT ? &v->at : &v->up;
     float xyz[3];
     if (!parse_numbers(val, xyz, 3)) {
-        snprintf(err, errlen, "'%s=%s': expected %s=X,Y,Z, three finite numbers", part, val, part);
+        snprintf(err, errlen, "'%s=%s': expected %s=X,Y,Z, three finite numbers%s", part, val, part,
+                 parts[k].bit == SCENE_VIEW_UP ? ", or an axis X, Y, Z or auto" : "");
         return -1;
     }
     *dst = v3(xyz[0], xyz[1], xyz[2]);
@@ -102,10 +126,15 @@ int scene_view_parse(const char *spec, scene_view *v, char *err, size_t errlen)
 
 int scene_view_apply(scene_t *s, const scene_view *v, const char *label, char *err, size_t errlen)
 {
+    /* An up axis first: on a made-up camera it makes the camera (and the
+     * made-up lights) again, which the other parts then adjust. */
+    camera_t before = s->camera;
+    if (v->up_axis) scene_set_up_axis(s, v->up_axis);
     camera_t c = s->camera;
+    s->camera = before;
     if (v->given & SCENE_VIEW_EYE) c.from = v->eye;
     if (v->given & SCENE_VIEW_AT) c.at = v->at;
-    if (v->given & SCENE_VIEW_UP) c.up = v->up;
+    if ((v->given & SCENE_VIEW_UP) && !v->up_axis) c.up = v->up;
     if (v->given & SCENE_VIEW_FOV) c.fov_deg = v->fov_deg;
     /* Checked on the result, since a spec may give only some parts: the
      * ranges every scene's view lies in (scene.h), an eye apart from at and
@@ -118,6 +147,10 @@ int scene_view_apply(scene_t *s, const scene_view *v, const char *label, char *e
         return -1;
     }
     s->camera = c;
+    /* A camera a view has placed is no longer made up: a later up axis turns it, not rebuilds it. */
+    if (v->given & (SCENE_VIEW_EYE | SCENE_VIEW_AT | SCENE_VIEW_FOV) || ((v->given & SCENE_VIEW_UP) && !v->up_axis))
+        s->made_up &= ~SCENE_MADE_CAMERA;
+    if (v->nlights) s->made_up &= ~SCENE_MADE_LIGHTS;
     if (v->nlights) {
         s->nlights = 0;
         for (uint32_t i = 0; i < v->nlights && i < SCENE_VIEW_MAX_LIGHTS; i++) scene_add_light(s, v->lights[i]);
@@ -129,5 +162,24 @@ int scene_view_apply(scene_t *s, const scene_view *v, const char *label, char *e
     bool first = !strcmp(s->view, "automatic") || !strcmp(s->view, "source") || !s->view[0];
     size_t n = first ? 0 : strlen(s->view);
     snprintf(s->view + n, sizeof s->view - n, "%s%s", first ? "" : "@", label);
+    return 0;
+}
+
+int scene_view_option(char *spec, size_t speclen, const char *option, const char *value, char *err, size_t errlen)
+{
+    size_t n = strlen(spec);
+    const char *key = !strcmp(option, "up") ? "up=" : !strcmp(option, "light") ? "light=" : "";
+    scene_view v;
+    char why[512];
+    if (snprintf(spec + n, speclen - n, "%s%s%s", n ? ";" : "", key, value) >= (int)(speclen - n)) {
+        spec[n] = '\0';
+        snprintf(err, errlen, "--%s %.60s: the view (--view, --up and --light together) is too long", option, value);
+        return -1;
+    }
+    if (scene_view_parse(spec, &v, why, sizeof why) != 0) {
+        spec[n] = '\0';
+        snprintf(err, errlen, "--%s %s: %s", option, value, why);
+        return -1;
+    }
     return 0;
 }

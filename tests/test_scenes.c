@@ -585,7 +585,16 @@ static void test_view_specs(void)
     CHECK(scene_view_parse("fov=45;up=0,1,0", &v, err, sizeof err) == 0 &&
           v.given == (SCENE_VIEW_FOV | SCENE_VIEW_UP) && v.fov_deg == 45.0f && v.nlights == 0);
     CHECK(scene_view_parse("eye=-1.5e2,+2,.5", &v, err, sizeof err) == 0 && same_vec(v.eye, v3(-150, 2, 0.5f)));
+    /* An up axis instead of a vector, and lights, repeatable up to SCENE_VIEW_MAX_LIGHTS. */
+    CHECK(scene_view_parse("up=z;light=1,2,3;light=-4,5,6", &v, err, sizeof err) == 0 && v.up_axis == SCENE_UP_Z &&
+          v.nlights == 2 && same_vec(v.lights[1], v3(-4, 5, 6)));
+    CHECK(scene_view_parse("up=auto", &v, err, sizeof err) == 0 && v.up_axis == SCENE_UP_AUTO);
+    CHECK(scene_view_parse("up=0,0,1", &v, err, sizeof err) == 0 && v.up_axis == SCENE_UP_NONE);
     static const struct { const char *spec, *want; } bad[] = {
+        {"up=W", "'up=W': expected up=X,Y,Z, three finite numbers, or an axis X, Y, Z or auto"},
+        {"up=Z;up=Y", "'up=Y': up given twice"},
+        {"light=1,2", "'light=1,2': expected light=X,Y,Z"},
+        {"light=1,1,1;light=2,2,2;light=3,3,3;light=4,4,4;light=5,5,5", "'light=5,5,5': more than 4 lights"},
         {"", "empty view"},
         {"eye=1,2", "'eye=1,2': expected eye=X,Y,Z"},
         {"eye=1,2,3,4", "'eye=1,2,3,4': expected eye=X,Y,Z"},
@@ -596,7 +605,7 @@ static void test_view_specs(void)
         {"fov=0", "'fov=0': expected an angle in degrees, 0 < DEG < 180"},
         {"fov=180", "'fov=180'"},
         {"fov=45deg", "'fov=45deg'"},
-        {"zoom=2", "'zoom=2': unknown part 'zoom' (known: eye, at, up, fov)"},
+        {"zoom=2", "'zoom=2': unknown part 'zoom' (known: eye, at, up, fov, light)"},
         {"fov=40;fov=50", "'fov=50': fov given twice"},
         {"fov=40;", "empty part"},
         {";fov=40", "empty part"},
