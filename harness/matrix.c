@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include "cellkey.h"
@@ -240,16 +241,30 @@ static void close_scene(scene_t *s, accel *ref, verifier_t *ver)
     scene_free(s);
 }
 
+static double monotonic_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
 /* The progress line of a measured cell, and its statistics on a line of
- * their own. */
+ * their own. The time left is this process's mean time a measured cell
+ * times the cells after this one (cells a resume skips among them make it
+ * an overestimate). */
+static double progress_start; /* when matrix_run began measuring */
+
 static void print_progress(int done, int total, const cell_result *cr, const char *label)
 {
+    static int measured;
+    measured++;
+    double elapsed = monotonic_s() - progress_start, left = elapsed / measured * (total - done);
     const csv_row *r = &cr->row;
     fprintf(stderr, "[%d/%d] %s %s %s: %u rays, build %.1f ms, trace %.2f ms (%.3f Mrays/s, %.2fx embree, pairs "
-                    "%.2f-%.2f, %s), agree %llu, real mismatches %llu\n",
+                    "%.2f-%.2f, %s), agree %llu, real mismatches %llu; %.0f s in, about %.0f s left\n",
             done, total, term_text(r->scene), label, r->workload, r->rays, r->build_ms, r->trace_ms, r->mrays_per_s,
             r->ratio_vs_embree, r->ratio_min, r->ratio_max, r->timed_path, (unsigned long long)r->agree,
-            (unsigned long long)r->mismatch_real);
+            (unsigned long long)r->mismatch_real, elapsed, left);
     if (r->nstats) {
         char buf[1024];
         stats_format(r, buf, sizeof buf);
@@ -644,6 +659,7 @@ int matrix_run(options *o)
                               .spp = o->wl.spp, .warm_passes = o->warm_passes, .mi = &mi};
     if (replay) settings.width = settings.height = settings.spp = 0; /* a replayed file's image is its own, or none */
     int index = 0, measured = 0;
+    progress_start = monotonic_s();
     double wall0 = clock_ms();
     for (int si = 0; si < o->nscenes && status == 0; si++) {
         /* A scene whose cells are all done is not even loaded (unless its rays are to be saved). */
