@@ -247,7 +247,7 @@ expect 2 "unknown experiment 'nope'" -- "$AB" reproduce nope
 expect 0 "woo92.*--quick|--quick" -- "$AB" reproduce --help
 expect 2 "usage: accelbench reproduce" -- "$AB" reproduce
 
-# --- issue 9: input ranges where data enters (scenes/scene.h): exit 2 and one line naming the culprit
+# --- input ranges where data enters (scenes/scene.h): exit 2 and one line naming the culprit
 # A mesh whose finite coordinates span 6e38: the grid read far outside its array (segfault); now the file's line.
 printf 'v -3e38 0 0\nv 3e38 0 0\nv 0 3e38 0\nf 1 2 3\n' > "$T/huge.obj"
 expect 2 "$T/huge.obj: line 1: vertex 1 coordinate -3e\+38 is outside the scene range: coordinates must be within \+-2\^30" -- "$AB" verify --scenes "$T/huge.obj" --accels grid --res 8x8
@@ -309,7 +309,7 @@ refused "$T/headerless.off: line 5: face 0 has 295 vertices; assimp's OFF reader
 printf '3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > "$T/headerless_ok.off"
 expect 0 "primitives 1: 1 triangles" -- "$AB" scene info "$T/headerless_ok.off"
 
-# --- issue 9, part 4: everything the command line names is checked before the first cell
+# --- everything the command line names is checked before the first cell
 # --seed -1 was taken as 2^64 - 1
 expect 2 "--seed -1: expected an unsigned integer" -- "$AB" verify --scenes spd:balls:1 --seed -1
 # a missing ray file: refused before verify prints its table or loads a scene

@@ -1,5 +1,5 @@
 #!/bin/bash
-# test_cli_report.sh: issue 14 on the command line: --accels instances and
+# test_cli_report.sh: the report on the command line: --accels instances and
 # sweeps (expansion counts, labels, errors before the first cell, a run with
 # two grid instances giving two rows), render --heatmap-max, and the report
 # subcommand (arguments, exit statuses, a page with one row per CSV row and

@@ -1,10 +1,10 @@
 #!/bin/bash
-# test_cli_resources.sh: issue 9's resources from the command line. What a
+# test_cli_resources.sh: resources from the command line. What a
 # command would allocate is estimated first and refused above the memory cap
 # (--memcap MIB, default half the memory the process may use: prlimit and
 # `ulimit -v` lower it) with exit 2 and ONE line naming what, the bytes, the
 # cap and how to raise it; an allocation that fails anyway is exit 2 with
-# its line, never an abort. The cases are issue 9's: --res 16384x16384, an
+# its line, never an abort. The cases: --res 16384x16384, an
 # NFF's resolution 1000000 1000000, scene info spd:balls:5:t64, --threads
 # 1024 under a limit. Prints "N passed, N failed"; exits 1 on a failure.
 set -u

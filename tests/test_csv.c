@@ -1,5 +1,5 @@
 /* test_csv.c: the results CSV's identity columns and its file on disk
- * (issue 9 part 3):
+ * (resumable runs):
  *  - cell keys (harness/cellkey.h): every option that shapes a cell's rays
  *    or timing changes the key, the ray-set form names the rays' hash,
  *    escaping keeps one reading, a key that does not fit is refused;

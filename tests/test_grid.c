@@ -305,7 +305,7 @@ static void test_auto_resolution(void)
     CHECK_MSG(r[0] == 10 && r[1] == 10 && r[2] == 1, "cubic flat %d %d %d", r[0], r[1], r[2]);
     grid_cubic_resolution(box_empty(), 0, 20.0, r);
     CHECK(r[0] == 1 && r[1] == 1 && r[2] == 1);
-    /* spd:balls:3's flat 16x16x1 (Woo's rule on its flat box, issue 10) becomes cubic voxels */
+    /* spd:balls:3's flat 16x16x1 (Woo's rule on its flat box) becomes cubic voxels */
     scene_t *balls = test_scene("spd:balls:3");
     accel *g20 = must_build("grid", balls, "res=cubic:20");
     int got_dims[3];

@@ -228,9 +228,9 @@ os.makedirs(other)
 with open(os.path.join(other, "matrix.csv"), "w") as f:
     f.write(open(path).read())
 with open(os.path.join(other, "summary.md"), "w") as f:
-    f.write("# Issue 13's targets\n")
+    f.write("# Targets of another script\n")
 check(summary.write_beside(os.path.join(other, "matrix.csv")) is None
-      and open(os.path.join(other, "summary.md")).read() == "# Issue 13's targets\n", "a foreign summary.md was replaced")
+      and open(os.path.join(other, "summary.md")).read() == "# Targets of another script\n", "a foreign summary.md was replaced")
 with open(os.path.join(other, "summary.md"), "w") as f:
     f.write("# Summary of an older run\n")
 check(summary.write_beside(os.path.join(other, "matrix.csv")) is not None

@@ -178,7 +178,7 @@ static void test_spd_estimates(void)
             scene_free(s);
         }
     }
-    /* Issue 9's case: 3.26e9 triangles, refused before a byte is generated. */
+    /* A request for 3.26e9 triangles, refused before a byte is generated. */
     memory_cap_set_mib(4096);
     CHECK(scene_load("spd:balls:5:t64", err, sizeof err) == NULL);
     CHECK_MSG(strstr(err, "spd:balls:5:t64: 3265167362 primitives (triangles) and 1632716544 vertices need") &&
@@ -248,7 +248,7 @@ static void test_workload_estimates(void)
     o.corners = true;
     CHECK(resources_workload("primary", &o, 1).rays == 65 * 65);
     CHECK(resources_workload("random", &o, 1).rays == 64 * 64); /* random has no corners */
-    /* Issue 9's --res 16384x16384: 2^28 rays and their answers, over 20 GiB. */
+    /* --res 16384x16384: 2^28 rays and their answers, over 20 GiB. */
     o = test_wl(16384, 16384, 1);
     resources_estimate big = resources_workload("primary", &o, 1);
     CHECK(big.rays == 1ull << 28 && big.bytes >= (1ull << 28) * (sizeof(ray_t) + 4 + 3 * sizeof(hit_t)));

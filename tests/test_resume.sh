@@ -1,5 +1,5 @@
 #!/bin/bash
-# test_resume.sh: issue 9 part 3, resumable and lossless runs, as a user
+# test_resume.sh: resumable and lossless runs, as a user
 # meets them: a run killed with SIGKILL after 0, 1 and 3 rows and mid-row
 # (a torn last line, simulated by cutting the file), then started again
 # with the same --out, ends with every cell exactly once in a CSV that

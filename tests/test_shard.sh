@@ -1,5 +1,5 @@
 #!/bin/bash
-# test_shard.sh: issue 15's sharded runs as a user meets them: run --shard
+# test_shard.sh: sharded runs as a user meets them: run --shard
 # K/N's refusals (exit 2, one line); a matrix of 2 scenes x 3 accelerators x
 # 2 workloads run as 3 shards and merged equals a one-machine run of it in
 # every column but the timing and machine columns (scripts/compare_matrix.py),

@@ -1,5 +1,5 @@
 #!/bin/bash
-# test_slurm.sh: issue 15's sharded matrix on a real Slurm: a single-node
+# test_slurm.sh: the sharded matrix on a real Slurm: a single-node
 # cluster brought up on this machine (munged on a socket of its own,
 # slurmctld -D and slurmd -D with a minimal slurm.conf for the host, in a
 # temporary folder; stopped by PID at the end), a 4-shard matrix (2 SPD
