@@ -198,10 +198,16 @@ int accel_config_check(const accel_config *ac, char *err, size_t errlen)
 
 void accel_config_label(const accel_config *ac, char *buf, size_t len)
 {
+    /* The defaults as they run on this machine (bvh's isa=auto is avx512
+     * here): a value settled from its default is the default. */
+    accel_params settled;
+    params_defaults(&settled, ac->ops->params);
+    accel_settle_params(ac->ops, &settled);
     size_t n = (size_t)snprintf(buf, len, "%s", ac->ops->name);
     const char *sep = "[";
     for (int k = 0; k < ac->params.count && n < len; k++) {
         if (strcmp(ac->params.values[k], ac->params.table[k].default_value) == 0) continue;
+        if (k < settled.count && strcmp(ac->params.values[k], settled.values[k]) == 0) continue;
         n += (size_t)snprintf(buf + n, len - n, "%s%s=%s", sep, ac->params.table[k].name, ac->params.values[k]);
         sep = ",";
     }

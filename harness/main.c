@@ -56,8 +56,17 @@ static void list_accels(void)
             printf("  %-14s flags:%s%s%s\n", "", a->flags & ACCEL_MUTATES ? " mutates-while-tracing(traced on 1 thread)" : "",
                    a->flags & ACCEL_SHADOW_ONLY ? " shadow-rays-only" : "",
                    a->flags & ACCEL_OPAQUE ? " counters-not-observable" : "");
-        for (int k = 0; a->params[k].name; k++)
-            printf("  %-14s   %s=%s  %s\n", "", a->params[k].name, a->params[k].default_value, a->params[k].help);
+        /* A default this machine settles to another value (bvh's isa=auto) says which: that is what the CSV
+         * records, and what the plots and report take as the default. */
+        accel_params settled;
+        params_defaults(&settled, a->params);
+        accel_settle_params(a, &settled);
+        for (int k = 0; a->params[k].name; k++) {
+            char here[160] = "";
+            if (k < settled.count && strcmp(settled.values[k], a->params[k].default_value))
+                snprintf(here, sizeof here, "[here: %s] ", settled.values[k]);
+            printf("  %-14s   %s=%s  %s%s\n", "", a->params[k].name, a->params[k].default_value, here, a->params[k].help);
+        }
     }
 }
 

@@ -180,9 +180,9 @@ def parse_accel_defaults(text):
             name = m.group(1)
             defaults[name] = {}
             continue
-        m = re.match(r"^ {19}(\w+)=(\S*)  ", line)
-        if m and name:
-            defaults[name][m.group(1)] = m.group(2)
+        m = re.match(r"^ {19}(\w+)=(\S*)  (?:\[here: (\S+)\] )?", line)
+        if m and name:  # a default this machine settles (isa=auto [here: avx512]) is recorded settled
+            defaults[name][m.group(1)] = m.group(3) or m.group(2)
     return defaults
 
 
