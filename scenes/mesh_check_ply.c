@@ -66,17 +66,28 @@ static double leading_count(const char *s)
     return x;
 }
 
-/* One header line into h. */
-static void header_line(ply_header *h, const char *l, unsigned line)
+/* One header line into h; -1 with the reason for a line that is none of
+ * the header's: assimp's reader skips such a line and, with a property
+ * misspelt, reads the body against a header it misunderstood (under
+ * AddressSanitizer: writes past its own buffers). */
+static int header_line(ply_header *h, const char *l, unsigned line, const char *path, char *err, size_t errlen)
 {
+    static const char *const keywords[] = {"ply", "format", "element", "property", "comment", "obj_info"};
     char w[5][64] = {{0}};
     int nw = sscanf(l, "%63s %63s %63s %63s %63s", w[0], w[1], w[2], w[3], w[4]);
+    bool known = false;
+    for (size_t k = 0; k < sizeof keywords / sizeof keywords[0]; k++) known |= strcmp(w[0], keywords[k]) == 0;
+    if (!known) {
+        snprintf(err, errlen, "%s: line %u: '%s' is not a PLY header keyword (ply, format, element, property, "
+                 "comment, obj_info, end_header)", path, line, w[0]);
+        return -1;
+    }
     if (nw >= 2 && strcmp(w[0], "format") == 0) {
         h->format = !strcmp(w[1], "binary_little_endian") ? 1 : !strcmp(w[1], "binary_big_endian") ? 2 : 0;
     } else if (nw >= 2 && strcmp(w[0], "element") == 0) {
         if (h->nel == MAX_ELEMENTS) {
             h->whole = false;
-            return;
+            return 0;
         }
         /* The count of whichever word assimp takes it from: it took "element 18446744073709551615 vertex"
          * as 2^32 - 1, so the largest. */
@@ -94,6 +105,7 @@ static void header_line(ply_header *h, const char *l, unsigned line)
         else
             e->props[e->nprops++] = p;
     }
+    return 0;
 }
 
 /* The bytes one instance of e takes at least: ASCII a digit and a blank per
@@ -192,7 +204,7 @@ int mesh_check_ply(const char *data, size_t size, const char *path, char *err, s
             }
         l += strspn(l, MESH_BLANKS);
         if (!mesh_keyword(l, "end_header")) {
-            header_line(&h, l, r.line);
+            if (header_line(&h, l, r.line, path, err, errlen)) return -1;
             continue;
         }
         double bytes = (double)(r.end - r.p);

@@ -367,6 +367,14 @@ static void test_errors(void)
     write_file(TMP "/points.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                   "property float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n");
     expect_error(TMP "/points.ply", TMP "/points.ply: mesh 0 has 3 vertices but no faces");
+    /* A misspelt header line: assimp skips it and reads the body against
+     * the header it misunderstood (past its own buffers, ASan saw). */
+    write_file(TMP "/misspelt.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                    "propefrty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                    "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_error(TMP "/misspelt.ply",
+                 TMP "/misspelt.ply: line 6: 'propefrty' is not a PLY header keyword (ply, format, element, property, "
+                     "comment, obj_info, end_header)");
 
     write_file(TMP "/nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
     expect_error(TMP "/nan.obj", TMP "/nan.obj: vertex 1 of mesh 0 has a NaN");
