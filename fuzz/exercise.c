@@ -123,6 +123,18 @@ void fuzz_exercise(const scene_t *s, const rayset_t *extra)
     for (int k = 0; k < n - 1; k++) rayset_free(sets[k]);
 }
 
+void fuzz_exercise_one(const scene_t *s, const char *key)
+{
+    int count = 0;
+    while (accel_registry[count]) count++;
+    uint64_t h = 0xcbf29ce484222325u;
+    for (const char *c = key; *c; c++) h = (h ^ (unsigned char)*c) * 0x100000001b3u;
+    rayset_t *sets[16];
+    int n = make_rays(s, sets);
+    fuzz_accel(accel_registry[h % (uint64_t)count], s, NULL, sets, n);
+    for (int k = 0; k < n; k++) rayset_free(sets[k]);
+}
+
 const scene_t *fuzz_scene(void)
 {
     static scene_t *s;

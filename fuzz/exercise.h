@@ -37,6 +37,14 @@ void fuzz_accel(const struct accel_ops *ops, const scene_t *s, const accel_param
  * extra when it is not NULL. */
 void fuzz_exercise(const scene_t *s, const rayset_t *extra);
 
+/* One registered accelerator over s, the one key picks (a hash of key over
+ * the registry), on the same rays as fuzz_exercise: for a harness whose
+ * inputs are scenes, so that a new scene costs one build, not every one
+ * (fuzz_scenes ran at tens of inputs a second once its corpus held scenes
+ * of thousands of primitives); the mutations of a scene's name pick the
+ * others. */
+void fuzz_exercise_one(const scene_t *s, const char *key);
+
 /* A small fixed scene with every kind of primitive (triangles, a sphere, a
  * cone, a concave polygon), for the harnesses whose input is not a scene;
  * made once, never freed (LeakSanitizer ignores what a global holds). */

@@ -3,15 +3,17 @@
  * up to its first NUL or newline, and every accelerator's build over any
  * scene. A name scene_check accepts that names a generated scene of at
  * most MAX_PRIMS primitives is also loaded, with its views, and built and
- * traced by every accelerator (exercise.c). Names of files are only
+ * traced by one accelerator, the one its name picks (exercise.c
+ * fuzz_exercise_one: a new scene costs one build, and the mutations of a
+ * name reach the others). Names of files are only
  * checked, never read (the harness stays hermetic and fast), except that
  * when the name ends in .obj, .ply, .off or .stl (before an optional
  * "@VIEW", one view spec) and a newline follows, the rest of the input is
  * that file: it is read (in this process, as fuzz_mesh reads) and what
- * loads, up to MAX_PRIMS triangles, is built and traced by every
- * accelerator too. So the shapes a file can hold and no generator makes
+ * loads, up to MAX_PRIMS triangles, is built and traced too, by the
+ * accelerator its geometry picks. So the shapes a file can hold and no generator makes
  * (triangles repeated many times, an object far from the origin, slivers,
- * coordinates at the scene range's edge) reach every builder. */
+ * coordinates at the scene range's edge) reach the builders. */
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -72,7 +74,7 @@ static void exercise_file(char *name, const unsigned char *data, size_t size)
     char key[32];
     if (s && s->prims.count <= MAX_PRIMS) {
         geometry_key(s, view, key, sizeof key);
-        if (fuzz_first_time("mesh", key)) fuzz_exercise(s, NULL);
+        if (fuzz_first_time("mesh", key)) fuzz_exercise_one(s, key);
     }
     scene_free(s);
 }
@@ -97,7 +99,7 @@ int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size)
     if (prims > MAX_PRIMS) return 0;
     if (!fuzz_first_time("scene", name)) return 0; /* loaded and exercised already */
     scene_t *s = scene_load(name, err, sizeof err);
-    if (s) fuzz_exercise(s, NULL);
+    if (s) fuzz_exercise_one(s, name);
     scene_free(s);
     return 0;
 }
