@@ -29,17 +29,9 @@ sys.path.insert(0, os.path.join(SRC, "scripts"))
 import plot  # noqa: E402
 import findings  # noqa: E402
 import summary  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pycheck import check, report as report_checks  # noqa: E402
 
-passed = failed = 0
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print(f"FAIL: {what}", file=sys.stderr)
 
 
 GRID = "res=auto,mailbox=on"
@@ -236,5 +228,4 @@ with open(os.path.join(other, "summary.md"), "w") as f:
 check(summary.write_beside(os.path.join(other, "matrix.csv")) is not None
       and "## Findings" in open(os.path.join(other, "summary.md")).read(), "summary.py's own summary.md not rewritten")
 
-print(f"{passed} passed, {failed} failed")
-sys.exit(1 if failed else 0)
+report_checks()

@@ -20,17 +20,9 @@ SRC = os.environ.get("SRCDIR", os.path.join(os.path.dirname(os.path.abspath(__fi
 sys.path.insert(0, os.path.join(SRC, "scripts"))
 import plot  # noqa: E402
 import report  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pycheck import check, report as report_checks  # noqa: E402
 
-passed = failed = 0
-
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print(f"FAIL: {what}", file=sys.stderr)
 
 
 # (accel, params, workload) -> exponents of time per ray, tests per ray; build and memory per accel
@@ -126,5 +118,4 @@ for scene, fam in (("spd:balls:3", "balls"), ("spd:balls:3:t", "balls-t"), ("spd
                    ("bunny", None), ("spd:balls", None), ("spd:balls:3@eye=1,2,3", None)):
     check(report.family_of(scene) == fam, f"family_of({scene}) = {report.family_of(scene)}, want {fam}")
 
-print(f"{passed} passed, {failed} failed")
-sys.exit(1 if failed else 0)
+report_checks()
