@@ -107,15 +107,19 @@ static int expand_item(const char *item, accel_config *out, int max, char *err, 
     /* Counted before anything is expanded, and stopped as soon as it passes max: the product of many lists
      * overflows any integer. */
     long total = 1;
-    bool over = false;
+    bool over = total > max; /* a plain name is one instance, and there may be no room left for it */
     for (int k = 0; k < nkv && !over; k++) {
         total *= kv[k].nvalues;
         over = total > max;
     }
     if (over) {
         /* The item is cut in the message so that the limit stays on the line. */
-        snprintf(err, errlen, "--accels '%.120s%s': its '|' lists expand to more than the %d instances left (at most "
-                 "%d accelerators in all)", item, strlen(item) > 120 ? "..." : "", max, OPT_LIST_MAX - 1);
+        if (nkv)
+            snprintf(err, errlen, "--accels '%.120s%s': its '|' lists expand to more than the %d instances left "
+                     "(at most %d accelerators in all)", item, strlen(item) > 120 ? "..." : "", max, OPT_LIST_MAX - 1);
+        else
+            snprintf(err, errlen, "--accels '%.120s%s': the list already holds its limit of %d accelerators",
+                     item, strlen(item) > 120 ? "..." : "", OPT_LIST_MAX - 1);
         return -1;
     }
     int idx[SPEC_KEYS] = {0};

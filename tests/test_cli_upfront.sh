@@ -53,6 +53,11 @@ s="grid[memcap=1000|1001|1002|1003|1004|1005|1006,density=1|2|3|4|5|6|7|8|9]"   
 out=$("$AB" verify --scenes spd:balls:1 --accels "$s" --workloads primary --res 4x4 2>&1)
 [ "$(grep -cE '^spd:balls:1 +primary +grid\[' <<<"$out")" = 63 ] && ok || bad "63 instances: $(tail -3 <<<"$out")"
 refused "expand to more than the 62 instances left" -- "$AB" verify --scenes spd:balls:1 --accels "exhaustive,$s" --workloads primary
+# a plain name after a sweep that fills the list: no room for its one instance
+refused "'exhaustive': the list already holds its limit of 63 accelerators" -- "$AB" verify --scenes spd:balls:1 \
+    --accels "$s,exhaustive" --workloads primary
+s=$(python3 -c "print(','.join(['exhaustive'] * 64))")
+refused "the list already holds its limit of 63 accelerators" -- "$AB" verify --scenes spd:balls:1 --accels "$s" --workloads primary
 # a valid sweep runs every combination
 "$AB" run --scenes spd:balls:1 --accels "bsp[split=sah|midpoint,maxprims=1|4],grid[mailbox=on|off]" "${TINY[@]}" \
     --out "$T/sweep" && ok || bad "sweep run"
