@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "../accel/embree.h"
+#include "../accel/peers/embree.h"
 #include "machine.h"
 #include "trace.h"
 #include "../prims/checked_alloc.h"

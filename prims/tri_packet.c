@@ -2,7 +2,7 @@
  * groups of PRIM_TRI_LANES and tested together with one ray set-up.
  *
  * The tests' bodies are in tri_packet_test.h, which traversals may inline
- * (accel/bvh/wide_walk.h); here they are compiled once for prims.h's
+ * (accel/bvh_wide/wide_walk.h); here they are compiled once for prims.h's
  * entry points, each setting the ray's shear up per call. What the
  * packet saves is the per-triangle work around the test: the ray's shear
  * (three divisions), the kind dispatch, the loads through the primitive's

@@ -2,7 +2,7 @@
  * prim_intersect_tris and prim_occluded_tris) as always-inlined bodies
  * over a ray whose shear is already set up, so that a traversal can
  * inline them into its walk with the shear computed once per ray
- * (accel/bvh/wide_walk.h) instead of once per leaf behind a call. A
+ * (accel/bvh_wide/wide_walk.h) instead of once per leaf behind a call. A
  * function that includes this under a target attribute (AVX2, AVX-512)
  * gets the same IEEE operations in the same order, VEX-encoded: the
  * same answers bit for bit.

@@ -1,4 +1,4 @@
-/* bvh_champion.c: `bvh`, the wide SIMD BVH: a binned SAH binary tree
+/* bvh_wide.c: `bvh`, the wide SIMD BVH: a binned SAH binary tree
  * collapsed to 2, 4 or 8 children a node, traversed nearest child first
  * with all children's boxes tested at once by SSE4.2, AVX2 or AVX-512
  * kernels chosen at run time. Reference: docs/accels/wide-bvh.md.
@@ -12,12 +12,12 @@
  *     (accel/bvh/build.c: Wald, IEEE TVCG 2012);
  *   - split=sbvh: Stich, Friedrich, Dietrich, HPG 2009, s3 (alpha: s3.2),
  *     accel/bvh/build_sbvh.c, primitives clipped by prims/clip.c;
- *   - wide nodes and the collapse (accel/bvh/collapse.c): Dammertz, Hanika,
+ *   - wide nodes and the collapse (accel/bvh_wide/collapse.c): Dammertz, Hanika,
  *     Keller, EGSR 2008; Ernst, Greiner, IEEE RT 2008; Wald, Benthin,
  *     Boulos, IEEE RT 2008;
  *   - robust box tests: Ize, JCGT 2(2), 2013 (fma=off), or one fused
  *     multiply-add a plane with directed per-ray constants (fma=on,
- *     accel/bvh/wide_walk.h);
+ *     accel/bvh_wide/wide_walk.h);
  *   - order=octant and compress=on: Ylitie, Karras, Laine, HPG 2017,
  *     s3.2 and s3.1; the per-octant permutation as Fuetterling et al.,
  *     HPG 2017;
@@ -32,7 +32,7 @@
  * the SSE4.2 kernel, compress or tree=embree at a width other than 8 are
  * refused with one line.
  *
- * Memory (accel/bvh/wide.h): nodes of 64 (W=2), 128 (W=4), 256 (W=8) or
+ * Memory (accel/bvh_wide/wide.h): nodes of 64 (W=2), 128 (W=4), 256 (W=8) or
  * 128 (compressed) bytes, 64-byte aligned, root always interior; refs, 4
  * bytes a reference in leaf order; packets, 160 bytes each, ceil(count/4)
  * per all-triangle leaf. memory() = the object + nodes + refs + packets.
@@ -52,10 +52,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "accel.h"
-#include "bvh_champion.h"
-#include "common/memcap.h"
-#include "../prims/checked_alloc.h"
+#include "../accel.h"
+#include "bvh_wide.h"
+#include "../common/memcap.h"
+#include "../../prims/checked_alloc.h"
 
 static const accel_param champ_params[] = {
     {"width", "8", "children per node: 2 | 4 | 8 (2: binary nodes, both children tested together by SSE4.2)"},
@@ -414,7 +414,7 @@ static box3 champ_bounds(const accel *a)
 }
 
 /* For tests (tests/test_champion.c): the tree and the kernels that run. */
-const wide_bvh *bvh_champion_tree(const accel *a, wide_isa *isa)
+const wide_bvh *bvh_wide_tree(const accel *a, wide_isa *isa)
 {
     const champ_t *t = (const champ_t *)a;
     if (isa) *isa = t->isa;

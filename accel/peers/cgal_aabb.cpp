@@ -52,7 +52,7 @@
 #include <cstdio>
 #include <new>
 #include <vector>
-#include "accel.h"
+#include "../accel.h"
 
 namespace {
 

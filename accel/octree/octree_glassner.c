@@ -49,13 +49,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "accel.h"
-#include "common/coincident.h"
-#include "common/hash.h"
-#include "common/mailbox.h"
-#include "common/memcap.h"
-#include "common/prim_test.h"
-#include "common/slab.h"
+#include "../accel.h"
+#include "../common/coincident.h"
+#include "hash_mod.h"
+#include "../common/mailbox.h"
+#include "../common/memcap.h"
+#include "../common/prim_test.h"
+#include "../common/slab.h"
 #include "octree_glassner.h"
 
 #define OCT_INTERIOR UINT32_MAX /* table value of an interior node */

@@ -23,7 +23,7 @@
  * Scratch: the candidate lists of the cells on the current path and of the
  * above siblings waiting for their turn, charged against the memory cap. */
 #include <stdlib.h>
-#include "float_res.h"
+#include "../common/float_res.h"
 #include "kd_build.h"
 
 static void build(kd_builder *b, box3 cell, uint32_t *ids, uint32_t n, int depth)

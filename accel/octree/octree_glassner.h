@@ -4,7 +4,7 @@
 #define ACCELBENCH_OCTREE_GLASSNER_H
 
 #include <stdint.h>
-#include "accel.h"
+#include "../accel.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -7,7 +7,7 @@
  * figure 9 (Hull_Sort_Intersect):
  *   - a volume is the intersection of slabs over a FIXED set of normals
  *     (3: the axes; 7: axes and cube diagonals), so the ray's part of each
- *     slab test is computed once per ray (accel/common/planeset.h);
+ *     slab test is computed once per ray (accel/slabs_kk/planeset.h);
  *   - an object's slab is the range of N . x over it (prims/ prim_extent);
  *     a parent's slab spans its children's (s4.4);
  *   - the heap walk keeps the volumes the ray meets keyed by entry
@@ -40,13 +40,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "accel.h"
+#include "../accel.h"
 #include "slabs_kay_kajiya.h"
-#include "bvh/walk.h"
-#include "common/coincident.h"
-#include "common/memcap.h"
-#include "common/planeset.h"
-#include "../prims/checked_alloc.h"
+#include "../bvh/walk.h"
+#include "../common/coincident.h"
+#include "../common/memcap.h"
+#include "planeset.h"
+#include "../../prims/checked_alloc.h"
 
 enum { TREE_MEDIAN = 0, TREE_GS = 1, TREE_SAH = 2 };
 enum { TRAV_HEAP = 0, TRAV_DFS = 1 };

@@ -1,6 +1,6 @@
 /* kd_tree.h: axis-orthogonal BSP trees (kd-trees) over prims/: the node
  * layout, the tree, and its two builders (the traversals are the
- * accelerator's, accel/bsp_kaplan_jansen.c).
+ * accelerator's, accel/bsp/bsp_kaplan_jansen.c).
  *
  * Builders (kd_build, by cfg->split):
  *   KD_SPLIT_MIDPOINT  Kaplan 1985 (survey of Arvo and Kirk 1989, s5.1):

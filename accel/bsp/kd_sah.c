@@ -50,7 +50,7 @@
  * waiting above siblings, one side byte per primitive. */
 #include <stdlib.h>
 #include <string.h>
-#include "float_res.h"
+#include "../common/float_res.h"
 #include "kd_build.h"
 
 enum { EV_END = 0, EV_PLANAR = 1, EV_START = 2 };

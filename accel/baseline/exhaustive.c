@@ -16,7 +16,7 @@
  * It is the correctness anchor of the testbed: its only logic is the
  * prims/ interface itself. */
 #include <stdlib.h>
-#include "accel.h"
+#include "../accel.h"
 
 static const accel_param exhaustive_params[] = {{NULL, NULL, NULL}};
 

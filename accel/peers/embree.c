@@ -36,9 +36,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "accel.h"
+#include "../accel.h"
 #include "embree.h"
-#include "../prims/checked_alloc.h"
+#include "../../prims/checked_alloc.h"
 
 static const accel_param embree_params[] = {
     {"quality", "medium", "BVH build quality: low|medium|high"},

@@ -13,7 +13,7 @@
  *   I. Wald, V. Havran, RT'06: the SAH event sweep and perfect splits, with
  *     pbrt-v4's KdTreeAggregate costs and termination (kd_sah.c).
  *
- * The tree, its 8-byte nodes and both builders are accel/common/kd_tree.h;
+ * The tree, its 8-byte nodes and both builders are accel/bsp/kd_tree.h;
  * this file is the three traversals. The tree's memory: the bsp_t, nodes
  * (8 bytes each, depth-first) and leaf id lists (4 bytes a reference;
  * one-primitive leaves keep the id in the node). Per thread: the mailbox
@@ -45,12 +45,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "accel.h"
+#include "../accel.h"
 #include "bsp_kaplan_jansen.h"
-#include "common/kd_tree.h"
-#include "common/mailbox.h"
-#include "common/slab.h"
-#include "../prims/checked_alloc.h"
+#include "kd_tree.h"
+#include "../common/mailbox.h"
+#include "../common/slab.h"
+#include "../../prims/checked_alloc.h"
 
 enum { TRAV_RECURSIVE = 0, TRAV_SEQUENTIAL = 1, TRAV_HAVRAN = 2 };
 

@@ -1,4 +1,4 @@
-/* wide.h: the wide BVH of the `bvh` accelerator (accel/bvh_champion.c):
+/* wide.h: the wide BVH of the `bvh` accelerator (accel/bvh_wide/bvh_wide.c):
  * node layouts for 2, 4 and 8 children and the quantised 8-wide one of
  * compress=on (wide_quantize.c), the collapse from the kit's binary
  * tree (collapse.c), Embree's own 8-wide tree copied in for `tree=embree`
@@ -78,7 +78,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
-#include "bvh.h"
+#include "../bvh/bvh.h"
 #include "../common/slab.h"
 
 #ifdef __cplusplus

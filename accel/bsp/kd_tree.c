@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "kd_build.h"
-#include "memcap.h"
+#include "../common/memcap.h"
 
 int kd_default_depth(uint64_t n)
 {

@@ -3,8 +3,8 @@
 #ifndef ACCELBENCH_SLABS_KAY_KAJIYA_H
 #define ACCELBENCH_SLABS_KAY_KAJIYA_H
 
-#include "accel.h"
-#include "common/planeset.h"
+#include "../accel.h"
+#include "planeset.h"
 
 /* Node i of a built `slabs-kk` (node 0 is the root): its slab volume
  * into out[0 .. normals), its index and count (count 0: interior, children

@@ -5,7 +5,7 @@
 #ifndef ACCELBENCH_KD_BUILD_H
 #define ACCELBENCH_KD_BUILD_H
 
-#include "coincident.h"
+#include "../common/coincident.h"
 #include "kd_tree.h"
 
 typedef struct {

@@ -14,7 +14,7 @@
  * and 8 more while they are computed). */
 #include <stdlib.h>
 #include <string.h>
-#include "build.h"
+#include "../bvh/build.h"
 #include "wide.h"
 
 const char *const wide_isa_names[WIDE_ISA_COUNT + 1] = {"scalar", "sse42", "avx2", "avx512", NULL};

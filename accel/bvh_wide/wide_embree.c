@@ -34,7 +34,7 @@ typedef struct {
     box3 box[EMBREE_WIDTH];
 } enode;
 
-_Static_assert(sizeof(enode) <= 272, "bvh_champion.c's memory cap counts 272 bytes an Embree node");
+_Static_assert(sizeof(enode) <= 272, "bvh_wide.c's memory cap counts 272 bytes an Embree node");
 
 typedef struct {
     uint32_t leaf; /* 1 */

@@ -5,7 +5,7 @@
  * Each leaf node of the tree is a single primitive object while each
  * interior node consists of a bounding volume and a list of pointers to
  * other nodes"), as Goldsmith and Salmon's builder makes it (build_gs.c,
- * accel/bvh_goldsmith_salmon.c). bvh.h's binary tree with multi-primitive
+ * accel/bvh_gs/bvh_goldsmith_salmon.c). bvh.h's binary tree with multi-primitive
  * leaves cannot hold it: a node here has any number of children, mixing
  * boxes and primitives.
  *

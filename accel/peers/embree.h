@@ -5,7 +5,7 @@
 #define ACCELBENCH_EMBREE_H
 
 #include <embree3/rtcore.h>
-#include "accel.h"
+#include "../accel.h"
 
 RTCScene embree_scene_of(accel *a);
 

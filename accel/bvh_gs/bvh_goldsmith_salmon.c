@@ -8,14 +8,14 @@
  *     s4.3 (insertion by least surface-area increase, ties searched;
  *     given, sorted or shuffled insertion orders), s4.1 and figures 3-4
  *     (the traversal). The builder's placements and their costs are in
- *     accel/bvh/build_gs.c with the retellings they come from.
+ *     accel/bvh_gs/build_gs.c with the retellings they come from.
  *
  * This file: the insertion orders (given | sorted along the longest axis |
  * seeded Fisher-Yates shuffles, K of them keeping the tree of least eq. (3)
  * cost; shuffle k is seeded with the k-th splitmix64 number from --seed, so
  * K trees include the one K = 1 builds), the accel_ops table and the
- * statistics. Building is accel/bvh/build_gs.c, the layout, cost model and
- * traversals accel/bvh/nary.h.
+ * statistics. Building is accel/bvh_gs/build_gs.c, the layout, cost model and
+ * traversals accel/bvh_gs/nary.h.
  *
  * Node: nary_node, 32 bytes: box, then first child and child count
  * (interior) or primitive id (leaf); breadth-first, each node's children
@@ -39,12 +39,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "accel.h"
-#include "bvh/nary.h"
-#include "common/coincident.h"
-#include "common/memcap.h"
-#include "common/shuffle.h"
-#include "../prims/checked_alloc.h"
+#include "../accel.h"
+#include "nary.h"
+#include "../common/coincident.h"
+#include "../common/memcap.h"
+#include "../common/shuffle.h"
+#include "../../prims/checked_alloc.h"
 
 enum { ORDER_GIVEN = 0, ORDER_SORTED = 1, ORDER_SHUFFLE = 2 };
 enum { TRAV_STORED = 0, TRAV_NEAREST = 1 };
