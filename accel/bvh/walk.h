@@ -9,7 +9,7 @@
  * callbacks, the volume test of a node and its index and count; the walks
  * are always inlined and the callbacks are constants at every call site, so
  * each use compiles to a walk specialised to its layout, with no indirect
- * call left (as accel/common/prim_test.h does for counting).
+ * call left (as accel/common/prim_hit.h does for counting).
  *
  *   bvh_walk_dfs   depth-first, the nearer child first, the farther one
  *                  stacked with its entry distance and dropped on pop when a

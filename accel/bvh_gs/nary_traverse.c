@@ -5,7 +5,7 @@
  * counter writes folded away (the same answers, bit for bit). Work is
  * counted in locals and added to *c once at the end. */
 #include <stdlib.h>
-#include "../common/prim_test.h"
+#include "../common/prim_hit.h"
 #include "../common/slab.h"
 #include "nary.h"
 

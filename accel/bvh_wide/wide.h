@@ -284,7 +284,7 @@ box3 wide_node_slot_box(const wide_bvh *w, uint32_t ni, uint32_t k);
 uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p);
 /* Copy every all-triangle leaf's triangles into packets (prims.h
  * prim_tri_pack) and point its slot at them (WIDE_PACKED); the walk then
- * tests them with prims/tri_packet_test.h's bodies inlined (those of
+ * tests them with prims/tri_packet.h's bodies inlined (those of
  * prim_intersect_tris / prim_occluded_tris), which answer and count as the
  * leaf tests over refs do. Other leaves keep their refs.
  * 0, or -1 out of memory (w unchanged). */

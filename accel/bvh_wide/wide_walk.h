@@ -7,7 +7,7 @@
  * function here carries WIDE_TARGET and is always inlined, so each entry
  * point is one function compiled for its instruction set with its kernel
  * inlined and no indirect call per node (the pattern of walk.h and
- * accel/common/prim_test.h). No file is compiled with global -m flags: the
+ * accel/common/prim_hit.h). No file is compiled with global -m flags: the
  * instruction set is a per-function attribute, chosen at build() time.
  *
  * The walk (Wald et al. 2008, Dammertz et al. 2008): visit a node, test all
@@ -67,13 +67,13 @@
 #endif
 #define WIDE_FN static inline __attribute__((always_inline)) WIDE_TARGET
 /* The triangle packet tests inlined into the walk, compiled for its
- * instruction set (prims/tri_packet_test.h: the same answers bit for bit
+ * instruction set (prims/tri_packet.h: the same answers bit for bit
  * as prims.h's prim_intersect_tris and prim_occluded_tris). With the test
  * behind a call, every leaf cost the walk a spill and reload of the ray's
  * broadcast planes (all vector registers are the caller's to save) and the
  * ray's shear set up again. */
 #define TRI_PACKET_TARGET WIDE_TARGET
-#include "../../prims/tri_packet_test.h"
+#include "../../prims/tri_packet.h"
 
 /* Per-ray constants of the box kernels. */
 typedef struct {

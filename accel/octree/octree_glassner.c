@@ -54,7 +54,7 @@
 #include "hash_mod.h"
 #include "../common/mailbox.h"
 #include "../common/memcap.h"
-#include "../common/prim_test.h"
+#include "../common/prim_hit.h"
 #include "../common/slab.h"
 #include "octree_glassner.h"
 
@@ -101,10 +101,6 @@ struct accel_ctx {
 
 static inline uint64_t name_lo(oct_name n) { return (uint64_t)n; }
 static inline uint32_t name_hi(oct_name n) { return (uint32_t)(n >> 64); }
-static inline float minf(float a, float b) { return b < a ? b : a; }
-static inline float maxf(float a, float b) { return b > a ? b : a; }
-static inline float maxabs3(vec3 v) { return maxf(fabsf(v.x), maxf(fabsf(v.y), fabsf(v.z))); }
-static inline float get3(vec3 v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
 static inline void set3(vec3 *v, int a, float x) { *(a == 0 ? &v->x : a == 1 ? &v->y : &v->z) = x; }
 static inline box3 box_pad(box3 b, float e)
 {
@@ -131,7 +127,7 @@ static inline box3 child_box(box3 b, unsigned oct)
 static inline float min_edge(box3 b)
 {
     vec3 e = box_extent(b);
-    return minf(e.x, minf(e.y, e.z));
+    return f_min_keep(e.x, f_min_keep(e.y, e.z));
 }
 
 /* ---------------------------------------------------------------- build */
@@ -231,7 +227,7 @@ static bool candidate(const builder *B, uint32_t id, box3 v)
     for (int a = 0; a < 3; a++)
         for (int side = 0; side < 2; side++) {
             box3 f = v;
-            float x = get3(side ? v.hi : v.lo, a);
+            float x = v3_get(side ? v.hi : v.lo, a);
             set3(&f.lo, a, x);
             set3(&f.hi, a, x);
             if (prim_overlaps_box(p, id, f)) return true;
@@ -417,17 +413,17 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
     box3 b = p->count && !box_is_empty(p->box) ? p->box : (box3){{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}};
     vec3 e = box_extent(b);
     float maxe = fmaxf(e.x, fmaxf(e.y, e.z));
-    float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(maxabs3(b.lo), maxabs3(b.hi)));
+    float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(v3_max_abs(b.lo), v3_max_abs(b.hi)));
     for (int a = 0; a < 3; a++) {
-        float lo = get3(b.lo, a), hi = get3(b.hi, a);
+        float lo = v3_get(b.lo, a), hi = v3_get(b.hi, a);
         if (hi - lo <= 1e-7f * base) set3(&b.lo, a, lo - 1e-3f * base), set3(&b.hi, a, hi + 1e-3f * base);
     }
-    o->pad = 2e-6f * fmaxf(maxabs3(b.lo), maxabs3(b.hi)) + 1e-6f * box_diagonal(b);
+    o->pad = 2e-6f * fmaxf(v3_max_abs(b.lo), v3_max_abs(b.hi)) + 1e-6f * box_diagonal(b);
     o->root = box_pad(b, o->pad);
 
     builder B = {.o = o, .maxprims = (int)maxprims, .term = term, .glassner = ins == 1, .ci = ci, .ct = ct,
                  .memcap = (uint64_t)memcap, .nprims = p->count, .err = err, .errlen = errlen};
-    B.floor_edge = OCT_EDGE_FLOOR * fmaxf(maxabs3(o->root.lo), maxabs3(o->root.hi));
+    B.floor_edge = OCT_EDGE_FLOOR * fmaxf(v3_max_abs(o->root.lo), v3_max_abs(o->root.hi));
     if (over_cap(&B, prim_classes_scratch_bytes(p->count))) goto fail;
     if (prim_classes_init(&B.classes, p)) {
         fail_oom(&B, "coincident primitives");
@@ -553,7 +549,7 @@ static inline __attribute__((always_inline)) void descend(const octree_t *o, oct
         box3 b = P->box[j];
         unsigned oct = 0;
         for (int a = 0; a < 3; a++) {
-            float m = midplane(get3(b.lo, a), get3(b.hi, a));
+            float m = midplane(v3_get(b.lo, a), v3_get(b.hi, a));
             oct |= (by_t ? side_by_t(r, a, m, t) : side_by_point(r, a, m, q[a])) << a;
         }
         j++;
@@ -573,7 +569,7 @@ static inline void voxel_span(const rstate *r, box3 b, float *ta, float *tb, flo
 {
     float a = -INFINITY, z = INFINITY;
     for (int k = 0; k < 3; k++) {
-        float lo = get3(b.lo, k), hi = get3(b.hi, k);
+        float lo = v3_get(b.lo, k), hi = v3_get(b.hi, k);
         if (r->d[k] == 0.0f) {
             tx[k] = INFINITY;
             if (r->o[k] < lo || r->o[k] > hi) a = INFINITY;
@@ -636,7 +632,7 @@ static inline __attribute__((always_inline)) bool walk(const octree_t *o, accel_
     rstate r;
     for (int a = 0; a < 3; a++) r.o[a] = sr.org[a], r.inv[a] = sr.inv[a];
     r.d[0] = ray->dir.x, r.d[1] = ray->dir.y, r.d[2] = ray->dir.z;
-    r.tol = 0.25f * o->pad / maxabs3(ray->dir);
+    r.tol = 0.25f * o->pad / v3_max_abs(ray->dir);
 
     mailbox_t mbox, *mb = NULL; /* a local copy keeps the stamps in a register */
     uint32_t rid = 0;
@@ -655,7 +651,7 @@ static inline __attribute__((always_inline)) bool walk(const octree_t *o, accel_
         float q[3];
         for (int a = 0; a < 3; a++) {
             float x = r.d[a] == 0.0f ? r.o[a] : r.o[a] + tcur * r.d[a];
-            q[a] = minf(maxf(x, get3(o->root.lo, a)), get3(o->root.hi, a));
+            q[a] = f_min_keep(f_max_keep(x, v3_get(o->root.lo, a)), v3_get(o->root.hi, a));
         }
         descend(o, &P, 0, q, &r, tcur, false, &nbox);
     } else {
@@ -696,12 +692,12 @@ static inline __attribute__((always_inline)) bool walk(const octree_t *o, accel_
             /* Q: the exit point moved minlen/2 beyond every exit face. */
             float q[3];
             for (int a = 0; a < 3; a++) {
-                float lo = get3(vb.lo, a), hi = get3(vb.hi, a);
+                float lo = v3_get(vb.lo, a), hi = v3_get(vb.hi, a);
                 if (tx[a] == tb) {
                     q[a] = r.d[a] > 0.0f ? hi + o->half : lo - o->half;
-                    if (q[a] < get3(o->root.lo, a) || q[a] > get3(o->root.hi, a)) goto out; /* leaves the root */
+                    if (q[a] < v3_get(o->root.lo, a) || q[a] > v3_get(o->root.hi, a)) goto out; /* leaves the root */
                 } else {
-                    q[a] = minf(maxf(r.o[a] + tb * r.d[a], lo), hi);
+                    q[a] = f_min_keep(f_max_keep(r.o[a] + tb * r.d[a], lo), hi);
                 }
             }
             tcur = tb;

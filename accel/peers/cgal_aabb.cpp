@@ -41,7 +41,7 @@
  * bytes (Bbox_3 + two pointers), n - 1 reserved exactly; Triangle_3 72
  * bytes each. Spheres and cones hold only their primitive.
  *
- * Counters: not observable (ACCEL_OPAQUE). No context: the tree is built
+ * Counters: not observable (ACCEL_NO_COUNTERS). No context: the tree is built
  * completely in build() (tree.build()), so concurrent queries only read. */
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -365,7 +365,7 @@ extern "C" const struct accel_ops accel_cgal_aabb = {
     /* .paper = */ "Alliez, Tayeb, Wormser, 3D Fast Intersection and Distance Computation (AABB Tree), CGAL User and "
                    "Reference Manual, AABB Tree package: Interface, Implementation Details",
     /* .params = */ cgal_params,
-    /* .flags = */ ACCEL_OPAQUE,
+    /* .flags = */ ACCEL_NO_COUNTERS,
     /* .build = */ cgal_build,
     /* .context_new = */ NULL,
     /* .context_free = */ NULL,

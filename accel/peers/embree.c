@@ -26,7 +26,7 @@
  * Memory: the bytes Embree's device reports allocating (memory monitor
  * callback), which include its own copies of the vertex and index buffers,
  * plus our id maps.
- * Counters: Embree's work is not observable (ACCEL_OPAQUE); its
+ * Counters: Embree's work is not observable (ACCEL_NO_COUNTERS); its
  * intersect_fast/occluded_fast are its own queries, which intersect and
  * occluded call. The cone callbacks use prims/'s counting-free tests.
  * Context: one RTCIntersectContext per thread, initialised once. */
@@ -340,7 +340,7 @@ const struct accel_ops accel_embree = {
     .summary = "Intel Embree 3 SAH BVH, single-ray kernels (the reference and speed bar)",
     .paper = "Wald et al., Embree: A Kernel Framework for Efficient CPU Ray Tracing, TOG 2014, sections 4-5",
     .params = embree_params,
-    .flags = ACCEL_OPAQUE,
+    .flags = ACCEL_NO_COUNTERS,
     .build = embree_build,
     .context_new = embree_context_new,
     .context_free = embree_context_free,

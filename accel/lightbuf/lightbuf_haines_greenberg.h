@@ -3,7 +3,7 @@
 #ifndef ACCELBENCH_LIGHTBUF_HAINES_GREENBERG_H
 #define ACCELBENCH_LIGHTBUF_HAINES_GREENBERG_H
 
-#include "accel.h"
+#include "../accel.h"
 
 /* Cell `cell` (index (face res + j) res + i, see the .c file's header) of
  * light `light`'s buffer: its list's primitive ids and depths in list

@@ -1,12 +1,12 @@
-/* prim_test.h: one primitive test of a traversal, counting or not.
+/* prim_hit.h: one primitive test of a traversal, counting or not.
  *
  * Every walk is written once and compiled twice, with `counting` a
  * constant: the warm-up's copy calls prims/'s counting tests (prim_tests,
  * prim_hits), the timed copy the counting-free *_fast forms (accel.h
  * intersect_fast/occluded_fast). Always inlined, so the constant folds and
  * neither copy pays for the other's branch. */
-#ifndef ACCELBENCH_PRIM_TEST_H
-#define ACCELBENCH_PRIM_TEST_H
+#ifndef ACCELBENCH_PRIM_HIT_H
+#define ACCELBENCH_PRIM_HIT_H
 
 #include <stdbool.h>
 #include <stdint.h>

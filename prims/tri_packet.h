@@ -1,4 +1,4 @@
-/* tri_packet_test.h: the triangle packet tests (prims.h's
+/* tri_packet.h: the triangle packet tests (prims.h's
  * prim_intersect_tris and prim_occluded_tris) as always-inlined bodies
  * over a ray whose shear is already set up, so that a traversal can
  * inline them into its walk with the shear computed once per ray
@@ -12,8 +12,8 @@
  * corners sheared by the same shear_vertex, so a packet answers exactly
  * what prim_intersect_leaf answers over the same ids in the same order:
  * lanes are taken in order against the closest hit so far. */
-#ifndef ACCELBENCH_TRI_PACKET_TEST_H
-#define ACCELBENCH_TRI_PACKET_TEST_H
+#ifndef ACCELBENCH_TRI_PACKET_H
+#define ACCELBENCH_TRI_PACKET_H
 
 #include "prims.h"
 #include "shear.h" /* also turns FP contraction off, as in triangle.c */

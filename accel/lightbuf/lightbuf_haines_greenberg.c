@@ -51,14 +51,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "accel.h"
+#include "../accel.h"
 #include "lightbuf_haines_greenberg.h"
-#include "bvh/bvh.h"
-#include "common/coincident.h"
-#include "common/dircube.h"
-#include "common/memcap.h"
-#include "common/prim_test.h"
-#include "../prims/checked_alloc.h"
+#include "closed_solids.h"
+#include "../bvh/bvh.h"
+#include "../common/coincident.h"
+#include "../common/dircube.h"
+#include "../common/memcap.h"
+#include "../common/prim_hit.h"
+#include "../../prims/checked_alloc.h"
 
 #define BODY static inline __attribute__((always_inline))
 #define LB_NONE UINT32_MAX
@@ -68,8 +69,6 @@
 #define LB_PERTURB 8.0              /* u-v movement per unit of e / rho (see the header) */
 #define LB_UV_ROUND 4e-6            /* dircube_uv's float rounding of W, with room */
 #define LB_DEPTH_SLACK 1e-6         /* relative: depths rounded down, query depths and occ up */
-#define LB_CULL_MAX_TRIS 4096       /* the convexity check is quadratic in a component's size */
-#define LB_CULL_FLAT 1e-6           /* convexity tolerance, relative to a component's box diagonal */
 
 static const accel_param lb_params[] = {
     {"res", "32", "cells per direction-cube face side, 1..1024 (6 res^2 cells per light), or auto (from the scene's size)"},
@@ -119,55 +118,6 @@ typedef struct {
     bvh_t fallback;
 } lb_t;
 
-/* ------------------------------------------------------ small geometry */
-
-typedef struct { double v[3]; } dv;
-
-static dv dv_of(vec3 a) { return (dv){{a.x, a.y, a.z}}; }
-static dv dv_sub(dv a, dv b) { return (dv){{a.v[0] - b.v[0], a.v[1] - b.v[1], a.v[2] - b.v[2]}}; }
-static double dv_dot(dv a, dv b) { return a.v[0] * b.v[0] + a.v[1] * b.v[1] + a.v[2] * b.v[2]; }
-static double dv_len(dv a) { return sqrt(dv_dot(a, a)); }
-static dv dv_cross(dv a, dv b)
-{
-    return (dv){{a.v[1] * b.v[2] - a.v[2] * b.v[1], a.v[2] * b.v[0] - a.v[0] * b.v[2], a.v[0] * b.v[1] - a.v[1] * b.v[0]}};
-}
-static dv dv_madd(dv a, dv b, double s) { return (dv){{a.v[0] + b.v[0] * s, a.v[1] + b.v[1] * s, a.v[2] + b.v[2] * s}}; }
-
-/* Distance from point q to triangle abc (Ericson, Real-Time Collision
- * Detection s5.1.5's regions, written here in double). */
-static double dist_point_triangle(dv q, dv a, dv b, dv c)
-{
-    dv ab = dv_sub(b, a), ac = dv_sub(c, a), ap = dv_sub(q, a);
-    double d1 = dv_dot(ab, ap), d2 = dv_dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return dv_len(ap);
-    dv bp = dv_sub(q, b);
-    double d3 = dv_dot(ab, bp), d4 = dv_dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return dv_len(bp);
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return dv_len(dv_sub(q, dv_madd(a, ab, d1 / (d1 - d3))));
-    dv cp = dv_sub(q, c);
-    double d5 = dv_dot(ab, cp), d6 = dv_dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return dv_len(cp);
-    double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return dv_len(dv_sub(q, dv_madd(a, ac, d2 / (d2 - d6))));
-    double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-        return dv_len(dv_sub(q, dv_madd(b, dv_sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
-    double den = va + vb + vc;
-    if (!(den > 0)) return fmin(fmin(dv_len(ap), dv_len(bp)), dv_len(cp)); /* degenerate: never asked, safe anyway */
-    dv x = dv_madd(dv_madd(a, ab, vb / den), ac, vc / den);
-    return dv_len(dv_sub(q, x));
-}
-
-/* Distance from q to the segment ab. */
-static double dist_point_segment(dv q, dv a, dv b)
-{
-    dv ab = dv_sub(b, a);
-    double l2 = dv_dot(ab, ab), s = l2 > 0 ? dv_dot(dv_sub(q, a), ab) / l2 : 0;
-    s = s < 0 ? 0 : s > 1 ? 1 : s;
-    return dv_len(dv_sub(q, dv_madd(a, ab, s)));
-}
-
 /* ------------------------------------------------- a primitive's pieces */
 
 /* The convex planar pieces a primitive is projected through: its
@@ -176,29 +126,29 @@ static double dist_point_segment(dv q, dv a, dv b)
  * (at most LB_MAX_PIECES; polygons may have more: *more is then set and
  * the caller pages through them with `from`). */
 #define LB_MAX_PIECES 64
-static uint32_t prim_pieces(const prims_t *p, uint32_t id, uint32_t from, dv out[][3], bool *more)
+static uint32_t prim_pieces(const prims_t *p, uint32_t id, uint32_t from, dvec3 out[][3], bool *more)
 {
     *more = false;
     uint32_t k = p->index[id];
     switch ((prim_kind)p->kind[id]) {
     case PRIM_TRIANGLE:
         if (from) return 0;
-        for (int v = 0; v < 3; v++) out[0][v] = dv_of(p->verts[p->tris[k].v[v]]);
+        for (int v = 0; v < 3; v++) out[0][v] = dv3(p->verts[p->tris[k].v[v]]);
         return 1;
     case PRIM_POLYGON: {
         const polygon_t *g = &p->polygons[k];
         uint32_t nt = g->count - 2, n = 0;
         for (uint32_t t = from; t < nt && n < LB_MAX_PIECES; t++, n++)
-            for (int v = 0; v < 3; v++) out[n][v] = dv_of(p->verts[p->poly_tris[g->tri_first + t].v[v]]);
+            for (int v = 0; v < 3; v++) out[n][v] = dv3(p->verts[p->poly_tris[g->tri_first + t].v[v]]);
         *more = from + n < nt;
         return n;
     }
     default: {
         if (from) return 0;
         box3 b = prim_bounds(p, id);
-        dv c[8];
+        dvec3 c[8];
         for (int i = 0; i < 8; i++)
-            c[i] = (dv){{i & 1 ? b.hi.x : b.lo.x, i & 2 ? b.hi.y : b.lo.y, i & 4 ? b.hi.z : b.lo.z}};
+            c[i] = (dvec3){i & 1 ? b.hi.x : b.lo.x, i & 2 ? b.hi.y : b.lo.y, i & 4 ? b.hi.z : b.lo.z};
         static const int quads[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
         for (int q = 0; q < 6; q++) {
             out[2 * q][0] = c[quads[q][0]], out[2 * q][1] = c[quads[q][1]], out[2 * q][2] = c[quads[q][2]];
@@ -218,23 +168,23 @@ static bool prim_degenerate(const prims_t *p, uint32_t id)
 }
 
 /* A lower bound of the distance from L to primitive id (see the header). */
-static double prim_min_dist(const prims_t *p, uint32_t id, dv L)
+static double prim_min_dist(const prims_t *p, uint32_t id, dvec3 L)
 {
     uint32_t k = p->index[id];
     switch ((prim_kind)p->kind[id]) {
     case PRIM_SPHERE:
-        return dv_len(dv_sub(dv_of(p->spheres[k].center), L)) - p->spheres[k].radius;
+        return dv3_len(dv3_sub(dv3(p->spheres[k].center), L)) - p->spheres[k].radius;
     case PRIM_CONE: {
         const cone_t *c = &p->cones[k];
-        return dist_point_segment(L, dv_of(c->base), dv_of(c->apex)) - fmax(c->base_radius, c->apex_radius);
+        return dv3_point_segment_distance(L, dv3(c->base), dv3(c->apex)) - fmax(c->base_radius, c->apex_radius);
     }
     default: {
-        dv t[LB_MAX_PIECES][3];
+        dvec3 t[LB_MAX_PIECES][3];
         bool more = true;
         double d = INFINITY;
         for (uint32_t from = 0; more;) {
             uint32_t n = prim_pieces(p, id, from, t, &more);
-            for (uint32_t i = 0; i < n; i++) d = fmin(d, dist_point_triangle(L, t[i][0], t[i][1], t[i][2]));
+            for (uint32_t i = 0; i < n; i++) d = fmin(d, dv3_point_triangle_distance(L, t[i][0], t[i][1], t[i][2]));
             from += n;
         }
         return d;
@@ -255,13 +205,13 @@ static void face_axes(int f, int *major, double *sign, int *ua, int *va)
 }
 
 /* The world direction through (u, v) of face f. */
-static dv face_dir(int f, double u, double v)
+static dvec3 face_dir(int f, double u, double v)
 {
     int major, ua, va;
     double sign;
     face_axes(f, &major, &sign, &ua, &va);
-    dv d;
-    d.v[major] = sign, d.v[ua] = u, d.v[va] = v;
+    dvec3 d = {0, 0, 0}; /* every axis set below: major, ua and va are the three */
+    dv3_set(&d, major, sign), dv3_set(&d, ua, u), dv3_set(&d, va, v);
     return d;
 }
 
@@ -310,14 +260,14 @@ static void mark_cell(lb_raster *r, uint32_t cell)
  * |x|, |y| <= K z grown to K = 1 + M, and project: uv[n][2]. Returns n
  * (0: nothing in the pyramid), or -1 when a clipped point is not in front
  * of the light (z <= 0: only a primitive through the light). */
-static int clip_project(const dv tri[3], int f, double K, double uv[16][2])
+static int clip_project(const dvec3 tri[3], int f, double K, double uv[16][2])
 {
     int major, ua, va;
     double sign;
     face_axes(f, &major, &sign, &ua, &va);
     double a[16][3], b[16][3];
     int n = 3;
-    for (int i = 0; i < 3; i++) a[i][0] = tri[i].v[ua], a[i][1] = tri[i].v[va], a[i][2] = sign * tri[i].v[major];
+    for (int i = 0; i < 3; i++) a[i][0] = dv3_get(tri[i], ua), a[i][1] = dv3_get(tri[i], va), a[i][2] = sign * dv3_get(tri[i], major);
     /* The four planes K z -+ x >= 0, K z -+ y >= 0, one after another. */
     for (int pl = 0; pl < 4 && n > 0; pl++) {
         int axis = pl >> 1;
@@ -399,18 +349,18 @@ static void raster_face(lb_raster *r, int f)
 }
 
 /* Project primitive r->id from light L onto the six faces. */
-static void raster_prim(lb_raster *r, dv L)
+static void raster_prim(lb_raster *r, dvec3 L)
 {
     const prims_t *p = r->t->p;
     const double K = 1.0 + r->t->margin + 1e-9;
-    dv t[LB_MAX_PIECES][3];
+    dvec3 t[LB_MAX_PIECES][3];
     bool more = true;
     for (uint32_t from = 0; more;) {
         uint32_t n = prim_pieces(p, r->id, from, t, &more);
         from += n;
         for (uint32_t i = 0; i < n; i++) {
-            dv rel[3];
-            for (int v = 0; v < 3; v++) rel[v] = dv_sub(t[i][v], L);
+            dvec3 rel[3];
+            for (int v = 0; v < 3; v++) rel[v] = dv3_sub(t[i][v], L);
             for (int f = 0; f < 6; f++) {
                 double uv[16][2];
                 int m = clip_project(rel, f, K, uv);
@@ -427,16 +377,16 @@ static void raster_prim(lb_raster *r, dv L)
  * light over triangle tri (relative to the light): the signed volumes
  * (Cramer's coefficients) all of the triangle's sign, with a 1e-7
  * relative margin. */
-static bool tri_covers(const dv tri[3], const dv d[4])
+static bool tri_covers(const dvec3 tri[3], const dvec3 d[4])
 {
-    dv bc = dv_cross(tri[1], tri[2]), ca = dv_cross(tri[2], tri[0]), ab = dv_cross(tri[0], tri[1]);
-    double det = dv_dot(tri[0], bc);
-    if (!(fabs(det) > 1e-9 * dv_len(tri[0]) * dv_len(tri[1]) * dv_len(tri[2]))) return false; /* its plane nearly holds the light */
+    dvec3 bc = dv3_cross(tri[1], tri[2]), ca = dv3_cross(tri[2], tri[0]), ab = dv3_cross(tri[0], tri[1]);
+    double det = dv3_dot(tri[0], bc);
+    if (!(fabs(det) > 1e-9 * dv3_len(tri[0]) * dv3_len(tri[1]) * dv3_len(tri[2]))) return false; /* its plane nearly holds the light */
     double s = det > 0 ? 1.0 : -1.0;
-    const dv *cr[3] = {&bc, &ca, &ab};
+    const dvec3 *cr[3] = {&bc, &ca, &ab};
     for (int k = 0; k < 4; k++)
         for (int e = 0; e < 3; e++)
-            if (!(s * dv_dot(*cr[e], d[k]) > 1e-7 * dv_len(*cr[e]) * dv_len(d[k]))) return false;
+            if (!(s * dv3_dot(*cr[e], d[k]) > 1e-7 * dv3_len(*cr[e]) * dv3_len(d[k]))) return false;
     return true;
 }
 
@@ -445,41 +395,41 @@ static bool tri_covers(const dv tri[3], const dv d[4])
  * edge's plane through the light, 1e-7 relative margin); *D is then its
  * farthest vertex distance. A concave cone is left to the ear triangles
  * (all four corners in one of them). */
-static bool convex_poly_covers(const prims_t *p, const polygon_t *g, dv L, const dv d[4], double *D)
+static bool convex_poly_covers(const prims_t *p, const polygon_t *g, dvec3 L, const dvec3 d[4], double *D)
 {
     uint32_t n = g->count;
-    dv nrm = dv_of(g->normal);
+    dvec3 nrm = dv3(g->normal);
     double far = 0, plane = 0;
-    dv axis = {{0, 0, 0}};
+    dvec3 axis = {0, 0, 0};
     for (uint32_t k = 0; k < n; k++) {
-        dv v = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
-        far = fmax(far, dv_len(v));
-        plane += dv_dot(nrm, v) / n;
-        axis = dv_madd(axis, v, 1.0 / n);
+        dvec3 v = dv3_sub(dv3(p->verts[p->poly_verts[g->first + k]]), L);
+        far = fmax(far, dv3_len(v));
+        plane += dv3_dot(nrm, v) / n;
+        axis = dv3_madd(axis, v, 1.0 / n);
     }
     if (!(fabs(plane) > 1e-9 * far)) return false; /* its plane nearly holds the light */
     /* The inner side of edge k's plane is the side of the vertex centroid
      * (inside a convex polygon; the vertex test below refuses the others). */
     for (uint32_t k = 0; k < n; k++) {
-        dv a = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
-        dv b = dv_sub(dv_of(p->verts[p->poly_verts[g->first + (k + 1) % n]]), L);
-        dv e = dv_cross(a, b);
-        double le = dv_len(e);
+        dvec3 a = dv3_sub(dv3(p->verts[p->poly_verts[g->first + k]]), L);
+        dvec3 b = dv3_sub(dv3(p->verts[p->poly_verts[g->first + (k + 1) % n]]), L);
+        dvec3 e = dv3_cross(a, b);
+        double le = dv3_len(e);
         if (!(le > 0)) return false;
-        double side = dv_dot(e, axis) >= 0 ? 1.0 : -1.0;
+        double side = dv3_dot(e, axis) >= 0 ? 1.0 : -1.0;
         for (int c = 0; c < 4; c++)
-            if (!(side * dv_dot(e, d[c]) > 1e-7 * le * dv_len(d[c]))) return false;
+            if (!(side * dv3_dot(e, d[c]) > 1e-7 * le * dv3_len(d[c]))) return false;
     }
     /* Convex: every vertex on the inner side of every edge's plane (or on
      * it); checked last, as few cells get this far. */
     for (uint32_t k = 0; k < n; k++) {
-        dv a = dv_sub(dv_of(p->verts[p->poly_verts[g->first + k]]), L);
-        dv b = dv_sub(dv_of(p->verts[p->poly_verts[g->first + (k + 1) % n]]), L);
-        dv e = dv_cross(a, b);
-        double le = dv_len(e), side = dv_dot(e, axis) >= 0 ? 1.0 : -1.0;
+        dvec3 a = dv3_sub(dv3(p->verts[p->poly_verts[g->first + k]]), L);
+        dvec3 b = dv3_sub(dv3(p->verts[p->poly_verts[g->first + (k + 1) % n]]), L);
+        dvec3 e = dv3_cross(a, b);
+        double le = dv3_len(e), side = dv3_dot(e, axis) >= 0 ? 1.0 : -1.0;
         for (uint32_t m = 0; m < n; m++) {
-            dv v = dv_sub(dv_of(p->verts[p->poly_verts[g->first + m]]), L);
-            if (side * dv_dot(e, v) < -1e-9 * le * dv_len(v)) return false;
+            dvec3 v = dv3_sub(dv3(p->verts[p->poly_verts[g->first + m]]), L);
+            if (side * dv3_dot(e, v) < -1e-9 * le * dv3_len(v)) return false;
         }
     }
     *D = far;
@@ -489,16 +439,16 @@ static bool convex_poly_covers(const prims_t *p, const polygon_t *g, dv L, const
 /* The full-occlusion depth of primitive id over the grown cell whose four
  * corner directions are d (the farthest distance at which every direction
  * of the cell has met it), or +inf when it does not cover the cell. */
-static double cover_depth(const prims_t *p, uint32_t id, dv L, const dv d[4])
+static double cover_depth(const prims_t *p, uint32_t id, dvec3 L, const dvec3 d[4])
 {
     uint32_t k = p->index[id];
     if (p->kind[id] == PRIM_SPHERE) {
-        dv c = dv_sub(dv_of(p->spheres[k].center), L);
-        double dist = dv_len(c), r = p->spheres[k].radius;
+        dvec3 c = dv3_sub(dv3(p->spheres[k].center), L);
+        double dist = dv3_len(c), r = p->spheres[k].radius;
         if (!(dist > r)) return INFINITY;
         double cosa = sqrt(dist * dist - r * r) / dist;
         for (int i = 0; i < 4; i++)
-            if (!(dv_dot(c, d[i]) / (dist * dv_len(d[i])) > cosa * (1 + 1e-7) + 1e-9)) return INFINITY;
+            if (!(dv3_dot(c, d[i]) / (dist * dv3_len(d[i])) > cosa * (1 + 1e-7) + 1e-9)) return INFINITY;
         return dist;
     }
     if (p->kind[id] == PRIM_CONE || prim_degenerate(p, id)) return INFINITY;
@@ -506,22 +456,22 @@ static double cover_depth(const prims_t *p, uint32_t id, dv L, const dv d[4])
         double D;
         if (convex_poly_covers(p, &p->polygons[k], L, d, &D)) return D;
     }
-    dv t[LB_MAX_PIECES][3];
+    dvec3 t[LB_MAX_PIECES][3];
     bool more = true;
     for (uint32_t from = 0; more;) {
         uint32_t n = prim_pieces(p, id, from, t, &more);
         from += n;
         for (uint32_t i = 0; i < n; i++) {
-            dv rel[3];
-            for (int v = 0; v < 3; v++) rel[v] = dv_sub(t[i][v], L);
-            if (tri_covers(rel, d)) return fmax(fmax(dv_len(rel[0]), dv_len(rel[1])), dv_len(rel[2]));
+            dvec3 rel[3];
+            for (int v = 0; v < 3; v++) rel[v] = dv3_sub(t[i][v], L);
+            if (tri_covers(rel, d)) return fmax(fmax(dv3_len(rel[0]), dv3_len(rel[1])), dv3_len(rel[2]));
         }
     }
     return INFINITY;
 }
 
 /* The four corner directions of cell `cell` grown by M. */
-static void cell_corners(const lb_t *t, uint32_t cell, dv d[4])
+static void cell_corners(const lb_t *t, uint32_t cell, dvec3 d[4])
 {
     uint32_t res = t->res, f = cell / (res * res), j = cell / res % res, i = cell % res;
     double h = 2.0 / res, M = t->margin;
@@ -531,388 +481,13 @@ static void cell_corners(const lb_t *t, uint32_t cell, dv d[4])
 
 /* ------------------------------------------------------------ culling */
 
-/* Culling's build-time part: comp[id] is the component of primitive id
- * when it lies wholly on one qualifying closed convex component (docs/accels/
- * directional.md, cull), else LB_NONE; ctris[] are the triangles of the qualifying
- * components, grouped by component (cfirst[c] .. cfirst[c + 1]). */
-typedef struct {
-    uint32_t *comp;
-    uint32_t ncomps;
-    uint32_t *cfirst;
-    dv (*ctris)[3];
-    uint32_t (*ctv)[3]; /* their vertices' canonical ids (position classes) */
-    bool *ok;           /* [ncomps] the component qualifies */
-} lb_cullinfo;
-
-typedef struct { uint32_t a, b, tri; } lb_edge;
-
-static const float *vkey_base;
-static int vkey_cmp(const void *x, const void *y)
-{
-    const float *a = vkey_base + 3 * (size_t)*(const uint32_t *)x, *b = vkey_base + 3 * (size_t)*(const uint32_t *)y;
-    for (int k = 0; k < 3; k++)
-        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
-    return 0;
-}
-static int edge_cmp(const void *x, const void *y)
-{
-    const lb_edge *a = x, *b = y;
-    uint32_t a0 = a->a < a->b ? a->a : a->b, a1 = a->a ^ a->b ^ a0, b0 = b->a < b->b ? b->a : b->b, b1 = b->a ^ b->b ^ b0;
-    if (a0 != b0) return a0 < b0 ? -1 : 1;
-    if (a1 != b1) return a1 < b1 ? -1 : 1;
-    return a->a < b->a ? -1 : a->a > b->a;
-}
-
-static uint32_t uf_find(uint32_t *parent, uint32_t x)
-{
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-}
-
-/* Whether every vertex of the triangles tr[0..n) lies behind or on every
- * one of their planes, up to LB_CULL_FLAT times the diagonal of their box:
- * float vertices of coplanar faces (a rotated box's split quads) are never
- * exactly coplanar. Triangles of (nearly) zero area have no plane to
- * check. */
-static bool comp_volume_positive(dv (*tr)[3], uint32_t n)
-{
-    double vol = 0;
-    for (uint32_t j = 0; j < n; j++) vol += dv_dot(tr[j][0], dv_cross(tr[j][1], tr[j][2]));
-    return vol > 0;
-}
-
-static bool comp_convex(dv (*tr)[3], uint32_t n)
-{
-    dv lo = tr[0][0], hi = tr[0][0];
-    for (uint32_t j = 0; j < n; j++)
-        for (int v = 0; v < 3; v++)
-            for (int k = 0; k < 3; k++) lo.v[k] = fmin(lo.v[k], tr[j][v].v[k]), hi.v[k] = fmax(hi.v[k], tr[j][v].v[k]);
-    double diag = dv_len(dv_sub(hi, lo)), tol = LB_CULL_FLAT * diag;
-    for (uint32_t i = 0; i < n; i++) {
-        dv nrm = dv_cross(dv_sub(tr[i][1], tr[i][0]), dv_sub(tr[i][2], tr[i][0]));
-        double ln = dv_len(nrm);
-        if (!(ln > 1e-12 * diag * diag)) continue;
-        for (uint32_t j = 0; j < n; j++)
-            for (int v = 0; v < 3; v++)
-                if (dv_dot(nrm, dv_sub(tr[j][v], tr[i][0])) > tol * ln) return false;
-    }
-    return true;
-}
-
-/* --- embedded components: no two triangles meet but where the mesh joins them --- */
-
-/* Whether triangles a and b (no shared vertex) are separated along one of
- * the axes of the separating axis test (their normals, the cross products
- * of their edges, and the in-plane normals of every edge, for coplanar
- * ones) by a gap of more than tol. */
-static bool tris_apart(const dv a[3], const dv b[3], double tol)
-{
-    dv ea[3], eb[3], ax[23];
-    for (int k = 0; k < 3; k++) ea[k] = dv_sub(a[(k + 1) % 3], a[k]), eb[k] = dv_sub(b[(k + 1) % 3], b[k]);
-    dv na = dv_cross(ea[0], ea[1]), nb = dv_cross(eb[0], eb[1]);
-    int n = 0;
-    ax[n++] = na, ax[n++] = nb;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) ax[n++] = dv_cross(ea[i], eb[j]);
-    for (int k = 0; k < 3; k++) ax[n++] = dv_cross(na, ea[k]), ax[n++] = dv_cross(na, eb[k]);
-    for (int k = 0; k < n; k++) {
-        double l = dv_len(ax[k]);
-        if (!(l > 0)) continue;
-        double alo = INFINITY, ahi = -INFINITY, blo = INFINITY, bhi = -INFINITY;
-        for (int v = 0; v < 3; v++) {
-            double x = dv_dot(ax[k], a[v]) / l, y = dv_dot(ax[k], b[v]) / l;
-            alo = fmin(alo, x), ahi = fmax(ahi, x), blo = fmin(blo, y), bhi = fmax(bhi, y);
-        }
-        if (ahi + tol < blo || bhi + tol < alo) return true;
-    }
-    return false;
-}
-
-/* Whether triangles a and b, sharing exactly vertex a[ia] = b[ib], meet
- * only there: a plane through it has a's other vertices on one side and
- * b's strictly on the other (by an angle of 1e-7), the candidates being
- * the separating axis test's (two wedges meeting only at their apex are
- * separated by such a plane). On the near side a vertex may lie in the
- * plane (coplanar fans: the separating line runs along an edge). */
-static bool tris_touch_at_vertex(const dv a[3], int ia, const dv b[3], int ib)
-{
-    dv v = a[ia], ra[2], rb[2];
-    for (int k = 0, m = 0; k < 3; k++)
-        if (k != ia) ra[m++] = dv_sub(a[k], v);
-    for (int k = 0, m = 0; k < 3; k++)
-        if (k != ib) rb[m++] = dv_sub(b[k], v);
-    dv ea[3] = {ra[0], ra[1], dv_sub(ra[1], ra[0])}, eb[3] = {rb[0], rb[1], dv_sub(rb[1], rb[0])};
-    dv na = dv_cross(ra[0], ra[1]), nb = dv_cross(rb[0], rb[1]), ax[2 + 9 + 12];
-    int n = 0;
-    ax[n++] = na, ax[n++] = nb;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) ax[n++] = dv_cross(ea[i], eb[j]);
-    for (int k = 0; k < 3; k++)
-        ax[n++] = dv_cross(na, ea[k]), ax[n++] = dv_cross(na, eb[k]), ax[n++] = dv_cross(nb, ea[k]),
-        ax[n++] = dv_cross(nb, eb[k]);
-    for (int k = 0; k < n; k++) {
-        double l = dv_len(ax[k]);
-        if (!(l > 0)) continue;
-        double amax = -INFINITY, amin = INFINITY, bmax = -INFINITY, bmin = INFINITY;
-        for (int m = 0; m < 2; m++) {
-            double x = dv_dot(ax[k], ra[m]) / (l * dv_len(ra[m])), y = dv_dot(ax[k], rb[m]) / (l * dv_len(rb[m]));
-            amax = fmax(amax, x), amin = fmin(amin, x), bmax = fmax(bmax, y), bmin = fmin(bmin, y);
-        }
-        /* a below (touching allowed) and b strictly above, or the mirror. */
-        if ((amax <= 1e-12 && bmin > 1e-7) || (bmax <= 1e-12 && amin > 1e-7) || (amin >= -1e-12 && bmax < -1e-7) ||
-            (bmin >= -1e-12 && amax < -1e-7))
-            return true;
-    }
-    return false;
-}
-
-/* Whether triangles a and b, sharing the edge from a[i] to a[(i+1)%3]
- * (b's vertex off it is b[jb]), meet only along it: their third vertices,
- * seen across the edge, are not folded onto one another (more than about
- * 1e-6 radians apart). */
-static bool tris_touch_at_edge(const dv a[3], int i, const dv b[3], int jb)
-{
-    dv p = a[i], e = dv_sub(a[(i + 1) % 3], p);
-    double ee = dv_dot(e, e);
-    if (!(ee > 0)) return false;
-    dv wa = dv_sub(a[(i + 2) % 3], p), wb = dv_sub(b[jb], p);
-    dv pa = dv_madd(wa, e, -dv_dot(wa, e) / ee), pb = dv_madd(wb, e, -dv_dot(wb, e) / ee);
-    double la = dv_len(pa), lb = dv_len(pb);
-    if (!(la > 0 && lb > 0)) return false;
-    return dv_dot(pa, pb) / (la * lb) < 1.0 - 1e-12;
-}
-
-/* How many of b's vertices (canonical ids) are among a's; *ia, *ib: the
- * last such pair's indices, *off: the last vertex of b that is not. */
-static int shared_vertices(const uint32_t a[3], const uint32_t b[3], int *ia, int *ib, int *off)
-{
-    int n = 0;
-    for (int j = 0; j < 3; j++) {
-        bool in = false;
-        for (int i = 0; i < 3; i++)
-            if (a[i] == b[j]) in = true, *ia = i, *ib = j;
-        n += in;
-        if (!in) *off = j;
-    }
-    return n;
-}
-
-/* The pair i, j of a component passes when it meets only where the mesh
- * joins it (see the three tests above). A triangle with a repeated vertex
- * fails against its neighbours (not culling is safe). */
-static bool pair_ok(dv (*tr)[3], uint32_t (*tv)[3], uint32_t i, uint32_t j, double tol)
-{
-    int ia = 0, ib = 0, off = 0;
-    int shared = shared_vertices(tv[i], tv[j], &ia, &ib, &off);
-    if (shared == 0) return tris_apart(tr[i], tr[j], tol);
-    if (shared == 1) return tris_touch_at_vertex(tr[i], ia, tr[j], ib);
-    if (shared != 2) return false;
-    /* The edge of a whose two ends are both b's. */
-    for (int k = 0; k < 3; k++) {
-        uint32_t x = tv[i][k], y = tv[i][(k + 1) % 3];
-        bool xin = x == tv[j][0] || x == tv[j][1] || x == tv[j][2], yin = y == tv[j][0] || y == tv[j][1] || y == tv[j][2];
-        if (xin && yin && x != y) return tris_touch_at_edge(tr[i], k, tr[j], off);
-    }
-    return false;
-}
-
-/* Whether the closed component of triangles tr[0..n) is embedded: every
- * pair whose boxes (grown by tol) overlap meets only at the vertices and
- * edges they share, non-adjacent ones at least tol apart; found through
- * the kit's BVH over the grown boxes. Its signed volume must also be
- * positive (outward). false out of memory too (not culling is safe). */
-static bool comp_embedded(dv (*tr)[3], uint32_t (*tv)[3], uint32_t n)
-{
-    dv lo = tr[0][0], hi = tr[0][0];
-    double vol = 0;
-    for (uint32_t j = 0; j < n; j++) {
-        vol += dv_dot(tr[j][0], dv_cross(tr[j][1], tr[j][2]));
-        for (int v = 0; v < 3; v++)
-            for (int k = 0; k < 3; k++) lo.v[k] = fmin(lo.v[k], tr[j][v].v[k]), hi.v[k] = fmax(hi.v[k], tr[j][v].v[k]);
-    }
-    double diag = dv_len(dv_sub(hi, lo)), tol = 1e-9 * diag;
-    if (!(vol > 1e-12 * diag * diag * diag)) return false;
-    box3 *boxes = malloc((size_t)n * sizeof *boxes);
-    uint32_t *stack = NULL;
-    bvh_t b = {0};
-    bool ok = false;
-    if (!boxes) return false;
-    for (uint32_t j = 0; j < n; j++) {
-        box3 x = box_empty();
-        for (int v = 0; v < 3; v++) {
-            vec3 q = v3((float)tr[j][v].v[0], (float)tr[j][v].v[1], (float)tr[j][v].v[2]);
-            x = box_grow(x, q);
-        }
-        float g = (float)(2 * tol) + 1e-30f;
-        x.lo = v3(nextafterf(x.lo.x - g, -INFINITY), nextafterf(x.lo.y - g, -INFINITY), nextafterf(x.lo.z - g, -INFINITY));
-        x.hi = v3(nextafterf(x.hi.x + g, INFINITY), nextafterf(x.hi.y + g, INFINITY), nextafterf(x.hi.z + g, INFINITY));
-        boxes[j] = x;
-    }
-    bvh_config cfg;
-    bvh_config_defaults(&cfg);
-    if (bvh_build_sah(&b, boxes, NULL, n, &cfg) || !b.nnodes) goto out;
-    stack = malloc(((size_t)b.max_depth + 2) * 2 * sizeof *stack);
-    if (!stack) goto out;
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t top = 0;
-        stack[top++] = 0;
-        while (top) {
-            const bvh_node *nd = &b.nodes[stack[--top]];
-            if (!box_overlap(nd->box, boxes[i])) continue;
-            if (nd->count == 0) {
-                stack[top++] = nd->index, stack[top++] = nd->index + 1;
-                continue;
-            }
-            for (uint32_t k = 0; k < nd->count; k++) {
-                uint32_t j = b.refs[nd->index + k];
-                if (j > i && box_overlap(boxes[i], boxes[j]) && !pair_ok(tr, tv, i, j, tol)) goto out;
-            }
-        }
-    }
-    ok = true;
-out:
-    free(boxes);
-    free(stack);
-    bvh_free(&b);
-    return ok;
-}
-
-static void cullinfo_free(lb_cullinfo *ci)
-{
-    free(ci->comp);
-    free(ci->cfirst);
-    free(ci->ctris);
-    free(ci->ctv);
-    free(ci->ok);
-    memset(ci, 0, sizeof *ci);
-}
-
-/* The cull analysis (header, cull=on). Returns 0, or -1 out of memory. */
-static int cullinfo_build(const prims_t *p, lb_cullinfo *ci)
-{
-    memset(ci, 0, sizeof *ci);
-    uint32_t ntri = p->ntris + p->npoly_tris, nv = p->nverts;
-    uint32_t *tv = malloc(((size_t)ntri * 3 + 1) * sizeof *tv), *owner = malloc(((size_t)ntri + 1) * sizeof *owner);
-    uint32_t *order = malloc(((size_t)nv + 1) * sizeof *order), *canon = malloc(((size_t)nv + 1) * sizeof *canon);
-    lb_edge *edges = malloc(((size_t)ntri * 3 + 1) * sizeof *edges);
-    uint32_t *parent = malloc(((size_t)ntri + 1) * sizeof *parent), *bad = calloc((size_t)ntri + 1, sizeof *bad);
-    ci->comp = malloc(((size_t)p->count + 1) * sizeof *ci->comp);
-    int rc = -1;
-    if (!tv || !owner || !order || !canon || !edges || !parent || !bad || !ci->comp) goto out;
-    /* Every triangle and polygon ear triangle, with its owner. */
-    uint32_t m = 0;
-    for (uint32_t id = 0; id < p->count; id++) {
-        ci->comp[id] = LB_NONE;
-        uint32_t k = p->index[id];
-        if (p->kind[id] == PRIM_TRIANGLE) {
-            memcpy(&tv[3 * m], p->tris[k].v, 3 * sizeof *tv);
-            owner[m++] = id;
-        } else if (p->kind[id] == PRIM_POLYGON) {
-            const polygon_t *g = &p->polygons[k];
-            for (uint32_t t = 0; t + 2 < g->count; t++) {
-                memcpy(&tv[3 * m], p->poly_tris[g->tri_first + t].v, 3 * sizeof *tv);
-                owner[m++] = id;
-            }
-        }
-    }
-    ntri = m;
-    /* Vertices matched by exact position. */
-    for (uint32_t i = 0; i < nv; i++) order[i] = i;
-    vkey_base = nv ? &p->verts[0].x : NULL; /* a scene of spheres and cones has no vertex array */
-    qsort(order, nv, sizeof *order, vkey_cmp);
-    for (uint32_t i = 0; i < nv; i++) canon[order[i]] = i && !vkey_cmp(&order[i], &order[i - 1]) ? canon[order[i - 1]] : order[i];
-    /* Directed edges; an undirected edge must be used exactly once each way. */
-    uint32_t ne = 0;
-    for (uint32_t t = 0; t < ntri; t++) {
-        parent[t] = t;
-        for (int e = 0; e < 3; e++) {
-            uint32_t a = canon[tv[3 * t + e]], b = canon[tv[3 * t + (e + 1) % 3]];
-            if (a != b) edges[ne++] = (lb_edge){a, b, t};
-        }
-    }
-    qsort(edges, ne, sizeof *edges, edge_cmp);
-    for (uint32_t i = 0; i < ne;) {
-        /* One undirected edge's uses: sorted together by edge_cmp. */
-        uint32_t j = i + 1;
-        while (j < ne && (edges[j].a == edges[i].a || edges[j].a == edges[i].b) &&
-               (edges[j].b == edges[i].a || edges[j].b == edges[i].b))
-            j++;
-        bool ok = j - i == 2 && edges[i].a == edges[i + 1].b && edges[i].b == edges[i + 1].a;
-        for (uint32_t k = i; k < j; k++) {
-            uint32_t x = uf_find(parent, edges[i].tri), y = uf_find(parent, edges[k].tri);
-            if (x != y) parent[x] = y;
-            if (!ok) bad[edges[k].tri] = 1;
-        }
-        i = j;
-    }
-    /* Components: bad if any triangle is, too large, or not convex. */
-    uint32_t *cid = malloc(((size_t)ntri + 1) * sizeof *cid), *csize = calloc((size_t)ntri + 1, sizeof *csize);
-    if (!cid || !csize) {
-        free(cid), free(csize);
-        goto out;
-    }
-    for (uint32_t t = 0; t < ntri; t++) {
-        uint32_t r = uf_find(parent, t);
-        csize[r]++;
-        if (bad[t]) bad[r] = 1;
-    }
-    /* Number the qualifying roots; their triangles grouped. */
-    uint32_t nc = 0;
-    for (uint32_t t = 0; t < ntri; t++) cid[t] = LB_NONE;
-    for (uint32_t t = 0; t < ntri; t++)
-        if (parent[t] == t && !bad[t]) cid[t] = nc++;
-    ci->cfirst = calloc((size_t)nc + 2, sizeof *ci->cfirst);
-    uint32_t total = 0;
-    for (uint32_t t = 0; t < ntri; t++) {
-        uint32_t c = cid[uf_find(parent, t)];
-        if (c != LB_NONE) ci->cfirst[c + 1]++, total++;
-    }
-    ci->ctris = malloc(((size_t)total + 1) * sizeof *ci->ctris);
-    ci->ctv = malloc(((size_t)total + 1) * sizeof *ci->ctv);
-    ci->ok = calloc((size_t)nc + 1, sizeof *ci->ok);
-    if (!ci->cfirst || !ci->ctris || !ci->ctv || !ci->ok) {
-        free(cid), free(csize);
-        goto out;
-    }
-    for (uint32_t c = 0; c < nc; c++) ci->cfirst[c + 1] += ci->cfirst[c];
-    memset(csize, 0, ((size_t)nc + 1) * sizeof *csize); /* fill cursors */
-    for (uint32_t t = 0; t < ntri; t++) {
-        uint32_t c = cid[uf_find(parent, t)];
-        if (c == LB_NONE) continue;
-        uint32_t slot = ci->cfirst[c] + csize[c]++;
-        for (int v = 0; v < 3; v++) ci->ctris[slot][v] = dv_of(p->verts[tv[3 * t + v]]), ci->ctv[slot][v] = canon[tv[3 * t + v]];
-    }
-    ci->ncomps = nc;
-    /* Convex (small components: the check is quadratic), else embedded. */
-    for (uint32_t c = 0; c < nc; c++) {
-        uint32_t f = ci->cfirst[c], m = ci->cfirst[c + 1] - f;
-        ci->ok[c] = (m <= LB_CULL_MAX_TRIS && comp_convex(&ci->ctris[f], m) && comp_volume_positive(&ci->ctris[f], m)) ||
-                    comp_embedded(&ci->ctris[f], &ci->ctv[f], m);
-    }
-    /* A primitive qualifies when all its triangles are in one qualifying component. */
-    for (uint32_t t = 0; t < ntri; t++) {
-        uint32_t c = cid[uf_find(parent, t)], id = owner[t];
-        uint32_t want = c != LB_NONE && ci->ok[c] ? c : LB_NONE;
-        bool first = t == 0 || owner[t - 1] != id;
-        if (first) ci->comp[id] = want;
-        else if (ci->comp[id] != want) ci->comp[id] = LB_NONE;
-    }
-    free(cid);
-    free(csize);
-    rc = 0;
-out:
-    free(tv), free(owner), free(order), free(canon), free(edges), free(parent), free(bad);
-    if (rc) cullinfo_free(ci);
-    return rc;
-}
-
 /* The solid angle of triangle abc (relative to the viewpoint) over 4 pi,
  * signed by its winding (Van Oosterom and Strackee's formula). */
-static double solid_fraction(dv a, dv b, dv c)
+static double solid_fraction(dvec3 a, dvec3 b, dvec3 c)
 {
-    double la = dv_len(a), lb = dv_len(b), lc = dv_len(c);
-    double num = dv_dot(a, dv_cross(b, c));
-    double den = la * lb * lc + dv_dot(a, b) * lc + dv_dot(a, c) * lb + dv_dot(b, c) * la;
+    double la = dv3_len(a), lb = dv3_len(b), lc = dv3_len(c);
+    double num = dv3_dot(a, dv3_cross(b, c));
+    double den = la * lb * lc + dv3_dot(a, b) * lc + dv3_dot(a, c) * lb + dv3_dot(b, c) * la;
     return atan2(num, den) / (2 * M_PI);
 }
 
@@ -920,7 +495,7 @@ static double solid_fraction(dv a, dv b, dv c)
  * than rho from every triangle (so every point within rho / 4096 of the
  * light is outside too): the winding number, the sum of the triangles'
  * solid angles over 4 pi, is 0 (within 1/4) there, 1 inside. */
-static bool *cull_outside(const lb_cullinfo *ci, dv L, double rho)
+static bool *cull_outside(const closed_solids *ci, dvec3 L, double rho)
 {
     bool *out = calloc((size_t)ci->ncomps + 1, sizeof *out);
     if (!out) return NULL;
@@ -928,10 +503,10 @@ static bool *cull_outside(const lb_cullinfo *ci, dv L, double rho)
         if (!ci->ok[c]) continue;
         double w = 0, dmin = INFINITY;
         for (uint32_t t = ci->cfirst[c]; t < ci->cfirst[c + 1]; t++) {
-            dv *tr = ci->ctris[t];
-            dv a = dv_sub(tr[0], L), b = dv_sub(tr[1], L), d = dv_sub(tr[2], L);
+            dvec3 *tr = ci->ctris[t];
+            dvec3 a = dv3_sub(tr[0], L), b = dv3_sub(tr[1], L), d = dv3_sub(tr[2], L);
             w += solid_fraction(a, b, d);
-            dmin = fmin(dmin, dist_point_triangle(L, tr[0], tr[1], tr[2]));
+            dmin = fmin(dmin, dv3_point_triangle_distance(L, tr[0], tr[1], tr[2]));
         }
         out[c] = fabs(w) < 0.25 && dmin > rho;
     }
@@ -941,20 +516,20 @@ static bool *cull_outside(const lb_cullinfo *ci, dv L, double rho)
 /* Whether primitive id is culled for light L: on a qualifying component
  * the light is outside of, every non-degenerate triangle of it with the
  * light at least rho / 2 behind its plane (and at least one such). */
-static bool prim_culled(const prims_t *p, const lb_cullinfo *ci, const bool *outside, uint32_t id, dv L, double rho)
+static bool prim_culled(const prims_t *p, const closed_solids *ci, const bool *outside, uint32_t id, dvec3 L, double rho)
 {
     uint32_t c = ci->comp[id];
-    if (c == LB_NONE || !outside[c]) return false;
-    dv t[LB_MAX_PIECES][3];
+    if (c == SOLID_NONE || !outside[c]) return false;
+    dvec3 t[LB_MAX_PIECES][3];
     bool more = true, any = false;
     for (uint32_t from = 0; more;) {
         uint32_t n = prim_pieces(p, id, from, t, &more);
         from += n;
         for (uint32_t i = 0; i < n; i++) {
-            dv nrm = dv_cross(dv_sub(t[i][1], t[i][0]), dv_sub(t[i][2], t[i][0]));
-            double ln = dv_len(nrm);
+            dvec3 nrm = dv3_cross(dv3_sub(t[i][1], t[i][0]), dv3_sub(t[i][2], t[i][0]));
+            double ln = dv3_len(nrm);
             if (!(ln > 0)) continue;
-            if (!(dv_dot(nrm, dv_sub(L, t[i][0])) < -0.5 * rho * ln)) return false;
+            if (!(dv3_dot(nrm, dv3_sub(L, t[i][0])) < -0.5 * rho * ln)) return false;
             any = true;
         }
     }
@@ -993,17 +568,17 @@ static float round_up(double x) { float f = (float)x; return (double)f < x ? nex
  * n . x over its vertices, rounded outward with room. */
 static lb_slab prim_slab(const prims_t *p, uint32_t id)
 {
-    dv t[LB_MAX_PIECES][3];
+    dvec3 t[LB_MAX_PIECES][3];
     bool more = true;
     uint32_t n = prim_pieces(p, id, 0, t, &more);
-    dv nrm = {{0, 0, 0}};
-    if (p->kind[id] == PRIM_POLYGON) nrm = dv_of(p->polygons[p->index[id]].normal);
-    else if (n) nrm = dv_cross(dv_sub(t[0][1], t[0][0]), dv_sub(t[0][2], t[0][0]));
-    double ln = dv_len(nrm);
+    dvec3 nrm = {0, 0, 0};
+    if (p->kind[id] == PRIM_POLYGON) nrm = dv3(p->polygons[p->index[id]].normal);
+    else if (n) nrm = dv3_cross(dv3_sub(t[0][1], t[0][0]), dv3_sub(t[0][2], t[0][0]));
+    double ln = dv3_len(nrm);
     lb_slab s = {v3(0, 0, 0), INFINITY, -INFINITY};
     if (!(ln > 0)) return s;
-    s.n = v3((float)(nrm.v[0] / ln), (float)(nrm.v[1] / ln), (float)(nrm.v[2] / ln));
-    dv nf = dv_of(s.n);
+    s.n = v3((float)(nrm.x / ln), (float)(nrm.y / ln), (float)(nrm.z / ln));
+    dvec3 nf = dv3(s.n);
     double lo = INFINITY, hi = -INFINITY, mag = 0;
     more = true;
     for (uint32_t from = 0; more;) {
@@ -1011,8 +586,8 @@ static lb_slab prim_slab(const prims_t *p, uint32_t id)
         from += n;
         for (uint32_t i = 0; i < n; i++)
             for (int v = 0; v < 3; v++) {
-                double x = dv_dot(nf, t[i][v]);
-                lo = fmin(lo, x), hi = fmax(hi, x), mag = fmax(mag, dv_len(t[i][v]));
+                double x = dv3_dot(nf, t[i][v]);
+                lo = fmin(lo, x), hi = fmax(hi, x), mag = fmax(mag, dv3_len(t[i][v]));
             }
     }
     double slack = 1e-6 * mag + 1e-30;
@@ -1068,17 +643,17 @@ static int finish_cells(lb_t *t, lb_light *L, const float *occ, uint64_t cap_mib
 
 /* One light's buffer: near list, two projection passes (count, fill),
  * sort and simplify. err set on failure (memcap or out of memory). */
-static int build_light(lb_t *t, lb_light *L, const lb_cullinfo *ci, uint64_t cap_mib, uint64_t *used, char *err,
+static int build_light(lb_t *t, lb_light *L, const closed_solids *ci, uint64_t cap_mib, uint64_t *used, char *err,
                        size_t errlen)
 {
     const prims_t *p = t->p;
     const uint32_t n = p->count;
-    dv Lp = {{L->pos[0], L->pos[1], L->pos[2]}};
+    dvec3 Lp = {L->pos[0], L->pos[1], L->pos[2]};
     /* rho from the light's reach: the far corner of the scene box. */
     double reach = 0;
     for (int i = 0; i < 8; i++) {
-        dv c = {{i & 1 ? p->box.hi.x : p->box.lo.x, i & 2 ? p->box.hi.y : p->box.lo.y, i & 4 ? p->box.hi.z : p->box.lo.z}};
-        reach = fmax(reach, dv_len(dv_sub(c, Lp)));
+        dvec3 c = {i & 1 ? p->box.hi.x : p->box.lo.x, i & 2 ? p->box.hi.y : p->box.lo.y, i & 4 ? p->box.hi.z : p->box.lo.z};
+        reach = fmax(reach, dv3_len(dv3_sub(c, Lp)));
     }
     L->rho = LB_RHO_FRAC * reach;
     float *depth = malloc(((size_t)n + 1) * sizeof *depth);
@@ -1138,7 +713,7 @@ static int build_light(lb_t *t, lb_light *L, const lb_cullinfo *ci, uint64_t cap
         if (!t->fullocc) continue;
         for (uint32_t k = 0; k < r.nmarked; k++) {
             uint32_t c = r.marked[k];
-            dv d[4];
+            dvec3 d[4];
             cell_corners(t, c, d);
             double D = cover_depth(p, id, Lp, d);
             if (D < INFINITY) occ[c] = fminf(occ[c], round_up(D * (1 + LB_DEPTH_SLACK)));
@@ -1165,15 +740,7 @@ static uint64_t base_bytes(const prims_t *p, uint64_t nlights, uint64_t ncells, 
     b = memcap_add(b, memcap_mul(n, sizeof(uint32_t) + sizeof(box3) + 2 * sizeof(vec3) + 4 + 1));
     b = memcap_add(b, memcap_mul(ncells, 3 * sizeof(uint32_t)));
     if (!cull) return b;
-    /* The cull analysis: per triangle its vertices, owner, three edges,
-     * union-find, flags, component numbers and a copy in double; per
-     * vertex its order and canonical id. */
-    uint64_t ntri = (uint64_t)p->ntris + p->npoly_tris;
-    b = memcap_add(b, memcap_mul(ntri, 12 + 4 + 3 * sizeof(lb_edge) + 4 + 4 + 8 + 3 * sizeof(dv) + 12 + 1));
-    /* The embedded test's BVH over the component's boxes (the largest
-     * component is at most every triangle). */
-    b = memcap_add(b, memcap_mul(ntri, sizeof(box3) + 2 * sizeof(bvh_node) + 4 + 8 + 2 * sizeof(vec3) + 12));
-    return memcap_add(b, memcap_mul(p->nverts, 8));
+    return memcap_add(b, closed_solids_bytes(p));
 }
 
 static int on_off(const accel_params *params, const char *key, bool *out, char *err, size_t errlen)
@@ -1252,7 +819,7 @@ static accel *lb_build(const scene_t *scene, const accel_params *params, char *e
         return NULL;
     lb_t *t = calloc(1, sizeof *t);
     box3 *boxes = malloc(((size_t)p->count + 1) * sizeof *boxes);
-    lb_cullinfo ci = {0};
+    closed_solids ci = {0};
     if (!t || !boxes) goto oom;
     t->base.scene = scene;
     t->p = p;
@@ -1266,7 +833,7 @@ static accel *lb_build(const scene_t *scene, const accel_params *params, char *e
     if (bvh_build_sah(&t->fallback, boxes, NULL, p->count, &cfg)) goto oom;
     free(boxes);
     boxes = NULL;
-    if (cull && cullinfo_build(p, &ci)) goto oom;
+    if (cull && closed_solids_find(p, &ci)) goto oom;
     t->nlights = scene->nlights;
     t->lights = calloc((size_t)t->nlights + 1, sizeof *t->lights);
     if (!t->lights) goto oom;
@@ -1279,13 +846,13 @@ static accel *lb_build(const scene_t *scene, const accel_params *params, char *e
         if (rc == -2) goto fail;
         if (rc) goto oom;
     }
-    cullinfo_free(&ci);
+    closed_solids_free(&ci);
     return &t->base;
 oom:
     snprintf(err, errlen, "lightbuf: out of memory building over %u primitives", p->count);
 fail:
     free(boxes);
-    cullinfo_free(&ci);
+    closed_solids_free(&ci);
     lb_destroy(t ? &t->base : NULL);
     return NULL;
 }
@@ -1308,10 +875,10 @@ BODY bool fallback(const lb_t *t, const ray_t *ray, counters_t *c, const bool co
 }
 
 /* Whether the segment [Ps, Pe] stays strictly on one side of the slab. */
-BODY bool slab_misses(const lb_slab *s, dv ps, dv pe)
+BODY bool slab_misses(const lb_slab *s, dvec3 ps, dvec3 pe)
 {
-    dv n = dv_of(s->n);
-    double a = dv_dot(n, ps), b = dv_dot(n, pe);
+    dvec3 n = dv3(s->n);
+    double a = dv3_dot(n, ps), b = dv3_dot(n, pe);
     return (a > s->hi && b > s->hi) || (a < s->lo && b < s->lo);
 }
 
@@ -1320,15 +887,15 @@ BODY bool query(const lb_t *t, const ray_t *ray, counters_t *c, const bool count
 {
     if (ray->light >= t->nlights || !isfinite(ray->tfar)) return fallback(t, ray, c, counting);
     const lb_light *L = &t->lights[ray->light];
-    dv lp = {{L->pos[0], L->pos[1], L->pos[2]}}, o = dv_of(ray->org), d = dv_of(ray->dir);
-    dv ps = dv_madd(o, d, ray->tnear), pe = dv_madd(o, d, ray->tfar);
-    dv w = dv_sub(ps, lp);
-    double e = dv_len(dv_sub(pe, lp)), ds = dv_len(w);
+    dvec3 lp = {L->pos[0], L->pos[1], L->pos[2]}, o = dv3(ray->org), d = dv3(ray->dir);
+    dvec3 ps = dv3_madd(o, d, ray->tnear), pe = dv3_madd(o, d, ray->tfar);
+    dvec3 w = dv3_sub(ps, lp);
+    double e = dv3_len(dv3_sub(pe, lp)), ds = dv3_len(w);
     if (!(e <= L->rho * LB_END_FRAC)) return fallback(t, ray, c, counting);
     double qd = fmax(ds, e) * (1 + LB_DEPTH_SLACK);
     if (ds > L->rho) {
         if (LB_PERTURB * e / L->rho + LB_UV_ROUND > t->margin) return fallback(t, ray, c, counting);
-        vec3 wf = v3((float)w.v[0], (float)w.v[1], (float)w.v[2]);
+        vec3 wf = v3((float)w.x, (float)w.y, (float)w.z);
         int f = dircube_face(wf);
         float u, v;
         dircube_uv(wf, f, &u, &v);
