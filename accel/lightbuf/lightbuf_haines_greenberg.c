@@ -9,7 +9,8 @@
  * by depth from the light; a shadow query reads the cell of its direction
  * and tests in depth order until an occluder or a candidate beyond the
  * point; s6.2's three simplifications as switches (cull, single, fullocc),
- * each implemented only in a form proven sound (the page says how).
+ * each implemented only in a form proven sound (the page says how); cull
+ * rests on the closed-solid analysis of closed_solids.h.
  *
  * Build: in double, relative to the light, with a u-v margin M
  * (min(1/8, max(cell side / 16, 2^-10))): a primitive is in every cell
