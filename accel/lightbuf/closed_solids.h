@@ -4,7 +4,8 @@
  * components) and, per component, convexity (every vertex behind every
  * plane, within SOLID_FLAT of the component's size, positive volume) or,
  * failing that, embedding (no two triangles meet but where the mesh joins
- * them, checked pair by pair over the kit's BVH). The light buffer's
+ * them, the pairs found over the kit's BVH); the geometry of both tests is
+ * prims/tri_set.h's. The light buffer's
  * culling (lightbuf_haines_greenberg.c, cull=on; docs/accels/directional.md)
  * drops the faces of such a solid that face away from a light outside it.
  *
