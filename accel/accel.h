@@ -43,8 +43,9 @@ enum accel_flag {
      * every ray); intersect is NULL. The harness runs it on shadow
      * workloads only. */
     ACCEL_SHADOW_ONLY = 1u << 1,
-    /* Counters are not observable (Embree): the CSV leaves them empty. */
-    ACCEL_OPAQUE = 1u << 2,
+    /* Counts nothing: its work is not observable (Embree, CGAL), so the
+     * CSV leaves the counters empty. */
+    ACCEL_NO_COUNTERS = 1u << 2,
 };
 
 typedef struct accel accel;
@@ -142,6 +143,9 @@ struct accel {
 /* Registry (registry.c). */
 extern const struct accel_ops *const accel_registry[];
 const struct accel_ops *accel_find(const char *name);
+/* The reference accelerator: the harness's judge of every other one's
+ * answers (verify, the warm-up's check, the overhead benchmark's baseline). */
+#define ACCEL_REFERENCE "embree"
 
 /* Build ops over scene with resolved parameters: checks the table (version
  * 1..ACCEL_OPS_VERSION, the methods its version and flags require), builds

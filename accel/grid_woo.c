@@ -57,7 +57,7 @@
 #include "common/mailbox.h"
 #include "common/float_res.h"
 #include "common/memcap.h"
-#include "common/prim_test.h"
+#include "common/prim_hit.h"
 #include "common/slab.h"
 #include "grid_woo.h"
 #include "../prims/checked_alloc.h"
@@ -120,14 +120,8 @@ struct accel_ctx {
     uint32_t *moved; /* mtf: 2 maxlist, the positions moved in a voxel and the list being rearranged */
 };
 
-/* fminf/fmaxf are libm calls without -ffast-math; these are inline and,
- * like them, ignore a NaN in the second argument. */
-static inline float minf(float a, float b) { return b < a ? b : a; }
-static inline float maxf(float a, float b) { return b > a ? b : a; }
-static inline vec3 vmin(vec3 a, vec3 b) { return v3(minf(a.x, b.x), minf(a.y, b.y), minf(a.z, b.z)); }
-static inline vec3 vmax(vec3 a, vec3 b) { return v3(maxf(a.x, b.x), maxf(a.y, b.y), maxf(a.z, b.z)); }
-static inline float get3(vec3 v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
-static inline float maxabs3(vec3 v) { return maxf(fabsf(v.x), maxf(fabsf(v.y), fabsf(v.z))); }
+static inline vec3 vmin(vec3 a, vec3 b) { return v3(f_min_keep(a.x, b.x), f_min_keep(a.y, b.y), f_min_keep(a.z, b.z)); }
+static inline vec3 vmax(vec3 a, vec3 b) { return v3(f_max_keep(a.x, b.x), f_max_keep(a.y, b.y), f_max_keep(a.z, b.z)); }
 static inline box3 box_pad(box3 b, float e)
 {
     b.lo = v3_sub(b.lo, v3(e, e, e));
@@ -205,7 +199,7 @@ static void insert_pass(grid_t *g, uint32_t *fill)
         box3 b = prim_bounds(p, id);
         if (box_is_empty(b)) continue;
         int lo[3], hi[3];
-        for (int a = 0; a < 3; a++) cell_span(g, a, get3(b.lo, a), get3(b.hi, a), &lo[a], &hi[a]);
+        for (int a = 0; a < 3; a++) cell_span(g, a, v3_get(b.lo, a), v3_get(b.hi, a), &lo[a], &hi[a]);
         for (int k = lo[2]; k <= hi[2]; k++)
             for (int j = lo[1]; j <= hi[1]; j++)
                 for (int i = lo[0]; i <= hi[0]; i++) {
@@ -288,18 +282,18 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     box3 b = p->count && !box_is_empty(p->box) ? p->box : (box3){{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}};
     vec3 e = box_extent(b);
     float maxe = fmaxf(e.x, fmaxf(e.y, e.z));
-    float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(maxabs3(b.lo), maxabs3(b.hi)));
+    float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(v3_max_abs(b.lo), v3_max_abs(b.hi)));
     for (int a = 0; a < 3; a++) {
         float *lo = a == 0 ? &b.lo.x : a == 1 ? &b.lo.y : &b.lo.z;
         float *hi = a == 0 ? &b.hi.x : a == 1 ? &b.hi.y : &b.hi.z;
         if (*hi - *lo <= 1e-7f * base) *lo -= 1e-3f * base, *hi += 1e-3f * base;
     }
-    float pad = 2e-6f * fmaxf(maxabs3(b.lo), maxabs3(b.hi)) + 1e-6f * box_diagonal(b);
+    float pad = 2e-6f * fmaxf(v3_max_abs(b.lo), v3_max_abs(b.hi)) + 1e-6f * box_diagonal(b);
     /* No cell narrower than float coordinates at the box resolve (common/float_res.h): far from the origin the
      * slack would put every primitive in every nearby cell. */
     float min_cell = float_res_min_cell(b, pad);
     for (int a = 0; a < 3; a++) {
-        double fit = floor((double)(get3(b.hi, a) - get3(b.lo, a)) / min_cell);
+        double fit = floor((double)(v3_get(b.hi, a) - v3_get(b.lo, a)) / min_cell);
         if (fit < res[a]) res[a] = fit < 1 ? 1 : (int)fit;
     }
 
@@ -334,7 +328,7 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     g->planes[2] = g->planes[1] + res[1] + 1;
     float w[3];
     for (int a = 0; a < 3; a++) {
-        float lo = get3(b.lo, a), hi = get3(b.hi, a);
+        float lo = v3_get(b.lo, a), hi = v3_get(b.hi, a);
         w[a] = (hi - lo) / (float)res[a];
         for (int i = 0; i < res[a]; i++) g->planes[a][i] = lo + (float)i * w[a];
         g->planes[a][res[a]] = hi;
@@ -551,8 +545,8 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
     }
     bool occluded = false;
 
-    r.pad = g->pad + 1e-6f * maxabs3(ray->org);
-    r.dt = r.pad / maxabs3(ray->dir);
+    r.pad = g->pad + 1e-6f * v3_max_abs(ray->org);
+    r.dt = r.pad / v3_max_abs(ray->dir);
     r.thr = g->beta > 0 ? g->beta * g->voxdiag / v3_len(ray->dir) : INFINITY;
     r.eye = g->eyeorigin && g->raybox && ray->org.x == g->eye.x && ray->org.y == g->eye.y && ray->org.z == g->eye.z;
 
@@ -596,7 +590,7 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
     float tcur = t0;
     for (;;) {
         int ax = tn[0] < tn[1] ? (tn[0] < tn[2] ? 0 : 2) : (tn[1] < tn[2] ? 1 : 2);
-        float tout = minf(tn[ax], t1);
+        float tout = f_min_keep(tn[ax], t1);
         if (tout < tcur) tout = tcur;
         nsteps++;
         uint32_t b = g->start[cell], e = g->start[cell + 1];
@@ -609,8 +603,8 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
             nbox++;
             if (!slab_clip(&r.sr, &g->vbox[cell], &v1, &v2)) goto next;
         }
-        if (g->tclip) rr.tnear = maxf(ray->tnear, v1 - (r.dt + 1e-6f * fabsf(v1)));
-        float vh = !shadow && g->dynbox ? minf(v2, hit->t) : v2; /* far end of the ray box */
+        if (g->tclip) rr.tnear = f_max_keep(ray->tnear, v1 - (r.dt + 1e-6f * fabsf(v1)));
+        float vh = !shadow && g->dynbox ? f_min_keep(v2, hit->t) : v2; /* far end of the ray box */
         bool cross = false;
         box3 rb;
         if (g->raybox && vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
@@ -634,7 +628,7 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
                     nbox++;
                     if (!box_overlap(rb, bounds[id])) continue;
                 }
-                float segf = !shadow ? minf(v2, hit->t) : v2;
+                float segf = !shadow ? f_min_keep(v2, hit->t) : v2;
                 if (g->woo90) {
                     nbox++;
                     if (!seg_in_bounds(&r, p->bounds[id], v1, segf)) continue;
@@ -649,7 +643,7 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
                 }
                 if (prim_test_closest(p, id, &rr, hit, c, counting)) {
                     if (g->dynbox && g->raybox) {
-                        vh = minf(v2, hit->t);
+                        vh = f_min_keep(v2, hit->t);
                         if (vh - v1 <= r.thr) cross = true, rb = ray_box(&r, v1, vh);
                     }
                     if (g->mtf != MTF_OFF) mtf_move(ids, b, k, moved, &nmoved);

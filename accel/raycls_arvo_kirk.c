@@ -17,7 +17,7 @@
  *   - Root lists are sorted once by each primitive's minimum extent along
  *     the face's direction (ties by id); culling only deletes, so every
  *     list stays sorted, and a ray stops once [tnear, t_hit] projected on
- *     the direction lies before the next candidate (rc_reach adds a slack).
+ *     the direction lies before the next candidate (rcls_reach adds a slack).
  *   - truncate=D (s6.4 partial lists) drops the suffix wholly past a plane;
  *     a ray passing it unhit is pushed to the plane and classified anew,
  *     its running hit kept and a per-thread mailbox skipping re-tests.
@@ -31,7 +31,7 @@
  * split. A ray so far away that its classification point could round past
  * the slack is tested against its face's root list instead.
  *
- * Node: rc_node, 64 bytes (one cache line): lo[5], hi[5], first of 32
+ * Node: rcls_node, 64 bytes (one cache line): lo[5], hi[5], first of 32
  * consecutive children (0: leaf), list and count into pool, tplane,
  * parent, depth, own, face. memory(): the object, key[6n] (4 bytes),
  * sphere[n] (16 bytes), nodes (six roots first) and pool (six root lists,
@@ -59,7 +59,7 @@
 #include "common/float_res.h"
 #include "common/mailbox.h"
 #include "common/memcap.h"
-#include "common/prim_test.h"
+#include "common/prim_hit.h"
 #include "../prims/checked_alloc.h"
 
 #define RC_ROOTS 6
@@ -89,8 +89,8 @@ typedef struct {
     float tplane;       /* every primitive dropped from the list has key > tplane; +inf: none dropped */
     uint32_t parent;    /* a root: itself */
     uint8_t depth, own, face, pad;
-} rc_node;
-_Static_assert(sizeof(rc_node) == 64, "rc_node is 64 bytes: one cache line");
+} rcls_node;
+_Static_assert(sizeof(rcls_node) == 64, "rcls_node is 64 bytes: one cache line");
 
 typedef struct {
     accel base;
@@ -106,14 +106,14 @@ typedef struct {
     float min_cell; /* narrowest origin-box side a split makes (float_res_min_cell of B and pad) */
     float *key;    /* [6 n] minimum extent along each face's direction */
     float *sphere; /* [4 n] centre x, y, z, radius */
-    rc_node *nodes;
+    rcls_node *nodes;
     uint32_t nnodes, nodes_cap;
     uint32_t *pool;
     uint64_t npool, pool_cap;
     bool capped, warned;
     uint64_t refusals;
     double lazy_ms;
-} rc_t;
+} rcls_t;
 
 struct accel_ctx {
     uint32_t cache[RC_ROOTS]; /* the leaf last used per face; UINT32_MAX: none */
@@ -148,9 +148,9 @@ typedef struct {
     double olo[3], ohi[3];         /* origin box, grown by pad */
     double u0, u1, v0, v1;         /* cell, grown by RC_DIR_SLACK */
     double apex[3], w[3], cs, sn;  /* bounding cone: apex, unit axis, cos and sin of the half-angle */
-} rc_beam;
+} rcls_beam;
 
-static void beam_init(rc_beam *b, int face, const float lo[5], const float hi[5], float pad)
+static void beam_init(rcls_beam *b, int face, const float lo[5], const float hi[5], float pad)
 {
     face_axes(face, &b->a, &b->s, &b->ua, &b->va);
     for (int k = 0; k < 3; k++) b->olo[k] = (double)lo[k] - pad, b->ohi[k] = (double)hi[k] + pad;
@@ -183,7 +183,7 @@ static void beam_init(rc_beam *b, int face, const float lo[5], const float hi[5]
 }
 
 /* Sphere (centre c, radius rad) against the bounding cone. */
-static bool cone_keeps(const rc_beam *b, const double c[3], double rad)
+static bool cone_keeps(const rcls_beam *b, const double c[3], double rad)
 {
     double q[3] = {c[0] - b->apex[0], c[1] - b->apex[1], c[2] - b->apex[2]};
     double qq = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
@@ -203,7 +203,7 @@ static void t_bound(double c, double rhs, double *tlo, double *thi)
 }
 
 /* Box q against the beam itself (beam=exact; docs/accels/directional.md). */
-static bool exact_keeps(const rc_beam *b, box3 q)
+static bool exact_keeps(const rcls_beam *b, box3 q)
 {
     double qlo[3], qhi[3];
     for (int k = 0; k < 3; k++) qlo[k] = get3(q.lo, k) - b->ohi[k], qhi[k] = get3(q.hi, k) - b->olo[k];
@@ -216,7 +216,7 @@ static bool exact_keeps(const rc_beam *b, box3 q)
     return tlo <= thi + 1e-12 * (fabs(tlo) + fabs(thi));
 }
 
-static bool beam_keeps(const rc_t *r, const rc_beam *b, uint32_t id)
+static bool beam_keeps(const rcls_t *r, const rcls_beam *b, uint32_t id)
 {
     if (r->beam == BEAM_EXACT) return exact_keeps(b, prim_bounds(r->p, id));
     const float *sp = r->sphere + 4 * (size_t)id;
@@ -227,7 +227,7 @@ static bool beam_keeps(const rc_t *r, const rc_beam *b, uint32_t id)
 void raycls_debug_beam_tests(int face, const float lo[5], const float hi[5], float pad, box3 box, bool *cone,
                              bool *exact)
 {
-    rc_beam b;
+    rcls_beam b;
     beam_init(&b, face, lo, hi, pad);
     double dx = (double)box.hi.x - box.lo.x, dy = (double)box.hi.y - box.lo.y, dz = (double)box.hi.z - box.lo.z;
     double cc[3] = {0.5 * ((double)box.lo.x + box.hi.x), 0.5 * ((double)box.lo.y + box.hi.y),
@@ -238,11 +238,11 @@ void raycls_debug_beam_tests(int face, const float lo[5], const float hi[5], flo
 
 /* ------------------------------------------------------------- storage */
 
-static size_t fixed_bytes(uint32_t n) { return sizeof(rc_t) + (size_t)n * (RC_ROOTS * sizeof(float) + 4 * sizeof(float)); }
+static size_t fixed_bytes(uint32_t n) { return sizeof(rcls_t) + (size_t)n * (RC_ROOTS * sizeof(float) + 4 * sizeof(float)); }
 
-static uint64_t in_use(const rc_t *r)
+static uint64_t in_use(const rcls_t *r)
 {
-    return fixed_bytes(r->n) + (uint64_t)r->nnodes * sizeof(rc_node) + r->npool * sizeof(uint32_t);
+    return fixed_bytes(r->n) + (uint64_t)r->nnodes * sizeof(rcls_node) + r->npool * sizeof(uint32_t);
 }
 
 static uint64_t room_left(uint64_t cap, uint64_t used) { return cap > used ? cap - used : 0; }
@@ -250,23 +250,23 @@ static uint64_t room_left(uint64_t cap, uint64_t used) { return cap > used ? cap
 /* Room for more_nodes nodes and more_entries list entries, within memcap
  * (what is in use AND what is allocated) and 32-bit indices. false:
  * refused, nothing changed. */
-static bool rc_reserve(rc_t *r, uint32_t more_nodes, uint64_t more_entries)
+static bool rcls_reserve(rcls_t *r, uint32_t more_nodes, uint64_t more_entries)
 {
     uint64_t need_nodes = (uint64_t)r->nnodes + more_nodes, need_pool = r->npool + more_entries;
     if (need_nodes >= UINT32_MAX || need_pool >= UINT32_MAX) return false;
     uint64_t fixed = fixed_bytes(r->n);
-    if (fixed + need_nodes * sizeof(rc_node) + need_pool * 4 > r->cap_bytes) return false;
+    if (fixed + need_nodes * sizeof(rcls_node) + need_pool * 4 > r->cap_bytes) return false;
     if (need_nodes > r->nodes_cap) {
-        uint64_t room = room_left(r->cap_bytes, fixed + r->pool_cap * 4) / sizeof(rc_node);
+        uint64_t room = room_left(r->cap_bytes, fixed + r->pool_cap * 4) / sizeof(rcls_node);
         uint64_t cap = r->nodes_cap * 2 < room ? r->nodes_cap * 2 : room;
         if (cap < need_nodes) cap = need_nodes;
         if (cap >= UINT32_MAX) cap = UINT32_MAX - 1;
-        rc_node *nn = realloc(r->nodes, cap * sizeof *nn);
+        rcls_node *nn = realloc(r->nodes, cap * sizeof *nn);
         if (!nn) return false;
         r->nodes = nn, r->nodes_cap = (uint32_t)cap;
     }
     if (need_pool > r->pool_cap) {
-        uint64_t room = room_left(r->cap_bytes, fixed + (uint64_t)r->nodes_cap * sizeof(rc_node)) / 4;
+        uint64_t room = room_left(r->cap_bytes, fixed + (uint64_t)r->nodes_cap * sizeof(rcls_node)) / 4;
         uint64_t cap = r->pool_cap * 2 < room ? r->pool_cap * 2 : room;
         if (cap < need_pool) cap = need_pool;
         if (cap >= UINT32_MAX) cap = UINT32_MAX - 1;
@@ -279,7 +279,7 @@ static bool rc_reserve(rc_t *r, uint32_t more_nodes, uint64_t more_entries)
 
 /* The truncation plane of hypercube nd (along its face's direction): D x
  * B's extent past the far face of its origin box; +inf when off. */
-static float trunc_plane(const rc_t *r, const rc_node *nd)
+static float trunc_plane(const rcls_t *r, const rcls_node *nd)
 {
     if (!(r->truncate > 0)) return INFINITY;
     int a = nd->face / 2;
@@ -290,11 +290,11 @@ static float trunc_plane(const rc_t *r, const rc_node *nd)
 /* C(H) = C(H) n Beam(H) (figure 23), truncated at H's plane: node h's
  * inherited list culled into a new list of its own. false: memcap refused
  * (h keeps the inherited list, a superset in the same order). */
-static bool rc_cull(rc_t *r, uint32_t h)
+static bool rcls_cull(rcls_t *r, uint32_t h)
 {
-    if (!rc_reserve(r, 0, r->nodes[h].count)) return false;
-    rc_node *nd = &r->nodes[h];
-    rc_beam b;
+    if (!rcls_reserve(r, 0, r->nodes[h].count)) return false;
+    rcls_node *nd = &r->nodes[h];
+    rcls_beam b;
     beam_init(&b, nd->face, nd->lo, nd->hi, r->pad);
     const uint32_t *src = r->pool + nd->list;
     uint32_t *dst = r->pool + r->npool;
@@ -323,19 +323,19 @@ static bool rc_cull(rc_t *r, uint32_t h)
  * min_cell is not split (float_res.h: far from the origin the slack pad
  * outgrows such halves, and every child would keep its parent's list): its
  * midpoint is put at lo, so the children with that axis's bit set hold all
- * of it and the others, [lo, lo), are never reached (rc_reachable). The
+ * of it and the others, [lo, lo), are never reached (rcls_reachable). The
  * u-v axes are always split. false: memcap refused. */
-static bool rc_split(rc_t *r, uint32_t h)
+static bool rcls_split(rcls_t *r, uint32_t h)
 {
-    if (!rc_reserve(r, RC_FANOUT, 0)) return false;
-    rc_node *nd = &r->nodes[h];
+    if (!rcls_reserve(r, RC_FANOUT, 0)) return false;
+    rcls_node *nd = &r->nodes[h];
     uint32_t first = r->nnodes;
     float mid[5];
     for (int k = 0; k < 5; k++)
         mid[k] = k < 3 && 0.5f * (nd->hi[k] - nd->lo[k]) < r->min_cell ? nd->lo[k]
                                                                          : nd->lo[k] + 0.5f * (nd->hi[k] - nd->lo[k]);
     for (uint32_t c = 0; c < RC_FANOUT; c++) {
-        rc_node *ch = &r->nodes[first + c];
+        rcls_node *ch = &r->nodes[first + c];
         for (int k = 0; k < 5; k++) {
             bool up = (c >> k) & 1;
             ch->lo[k] = up ? mid[k] : nd->lo[k];
@@ -351,17 +351,17 @@ static bool rc_split(rc_t *r, uint32_t h)
     return true;
 }
 
-static bool wants_split(const rc_t *r, const rc_node *nd)
+static bool wants_split(const rcls_t *r, const rcls_node *nd)
 {
     return nd->count > r->maxcands && nd->depth < r->maxdepth;
 }
 
-/* Whether the descent (rc_child) can reach node h: not when, on an axis
+/* Whether the descent (rcls_child) can reach node h: not when, on an axis
  * whose bit h lacks, its parent's midpoint is the parent's lo (an axis left
  * unsplit, or one too narrow for its midpoint to round above lo). */
-static bool rc_reachable(const rc_t *r, uint32_t h)
+static bool rcls_reachable(const rcls_t *r, uint32_t h)
 {
-    const rc_node *nd = &r->nodes[h], *up = &r->nodes[nd->parent];
+    const rcls_node *nd = &r->nodes[h], *up = &r->nodes[nd->parent];
     if (nd->parent == h) return true; /* a root */
     uint32_t bits = h - up->child;
     const float *mid = r->nodes[up->child + RC_FANOUT - 1].lo;
@@ -375,7 +375,7 @@ static bool rc_reachable(const rc_t *r, uint32_t h)
 /* The child of interior h holding the 5-D point pt: lower halves are
  * half-open [lo, mid), upper halves [mid, hi]. Child 31 starts at every
  * midpoint. */
-static uint32_t rc_child(const rc_t *r, uint32_t h, const float pt[5])
+static uint32_t rcls_child(const rcls_t *r, uint32_t h, const float pt[5])
 {
     uint32_t first = r->nodes[h].child;
     const float *mid = r->nodes[first + RC_FANOUT - 1].lo;
@@ -386,15 +386,15 @@ static uint32_t rc_child(const rc_t *r, uint32_t h, const float pt[5])
 
 /* Whether leaf h holds pt by the descent's rule (an upper bound is
  * included only where it is the root's). */
-static bool rc_holds(const rc_t *r, uint32_t h, const float pt[5])
+static bool rcls_holds(const rcls_t *r, uint32_t h, const float pt[5])
 {
-    const rc_node *nd = &r->nodes[h], *root = &r->nodes[nd->face];
+    const rcls_node *nd = &r->nodes[h], *root = &r->nodes[nd->face];
     for (int k = 0; k < 5; k++)
         if (!(nd->lo[k] <= pt[k] && (pt[k] < nd->hi[k] || nd->hi[k] == root->hi[k]))) return false;
     return true;
 }
 
-static void refuse(rc_t *r)
+static void refuse(rcls_t *r)
 {
     r->capped = true;
     r->refusals++;
@@ -407,7 +407,7 @@ static void refuse(rc_t *r)
 
 /* Figure 23's lazy subdivision from leaf h down to the leaf holding pt;
  * the levels it makes are counted in *steps. */
-static uint32_t rc_refine(rc_t *r, uint32_t h, const float pt[5], uint64_t *steps)
+static uint32_t rcls_refine(rcls_t *r, uint32_t h, const float pt[5], uint64_t *steps)
 {
     if (r->nodes[h].own && !wants_split(r, &r->nodes[h])) return h;
     if (r->capped) {
@@ -416,16 +416,16 @@ static uint32_t rc_refine(rc_t *r, uint32_t h, const float pt[5], uint64_t *step
     }
     double t0 = now_ms();
     for (;;) {
-        if (!r->nodes[h].own && !rc_cull(r, h)) {
+        if (!r->nodes[h].own && !rcls_cull(r, h)) {
             refuse(r);
             break;
         }
         if (!wants_split(r, &r->nodes[h])) break;
-        if (!rc_split(r, h)) {
+        if (!rcls_split(r, h)) {
             refuse(r);
             break;
         }
-        h = rc_child(r, h, pt);
+        h = rcls_child(r, h, pt);
         (*steps)++;
     }
     r->lazy_ms += now_ms() - t0;
@@ -434,21 +434,21 @@ static uint32_t rc_refine(rc_t *r, uint32_t h, const float pt[5], uint64_t *step
 
 /* The leaf of face f's hyper-octree holding pt: the cached one when it
  * still is a leaf holding pt, else found from the root; refined when lazy. */
-BODY uint32_t rc_locate(rc_t *r, accel_ctx *ctx, int f, const float pt[5], counters_t *c, const bool counting)
+BODY uint32_t rcls_locate(rcls_t *r, accel_ctx *ctx, int f, const float pt[5], counters_t *c, const bool counting)
 {
     uint32_t h = ctx->cache[f];
     uint64_t steps = 0;
     bool cached = h < r->nnodes;
     if (counting && cached) c->box_tests++;
-    if (!(cached && r->nodes[h].child == 0 && r->nodes[h].face == f && rc_holds(r, h, pt))) {
+    if (!(cached && r->nodes[h].child == 0 && r->nodes[h].face == f && rcls_holds(r, h, pt))) {
         h = (uint32_t)f;
         steps++;
         while (r->nodes[h].child) {
-            h = rc_child(r, h, pt);
+            h = rcls_child(r, h, pt);
             steps++;
         }
     }
-    if (r->lazy) h = rc_refine(r, h, pt, &steps);
+    if (r->lazy) h = rcls_refine(r, h, pt, &steps);
     if (counting) c->steps += steps;
     ctx->cache[f] = h;
     return h;
@@ -463,12 +463,12 @@ typedef struct {
     double s, o[3], d[3];
     double tstart, texit;
     float pt[5];
-} rc_ray;
+} rcls_ray;
 
 enum { RC_MISS, RC_FAR, RC_INSIDE };
 
 /* pt from the point at t (clamped into B; the clamp only absorbs rounding). */
-static void rc_point(const rc_t *r, rc_ray *q, double t)
+static void rcls_point(const rcls_t *r, rcls_ray *q, double t)
 {
     const float lo[3] = {r->box.lo.x, r->box.lo.y, r->box.lo.z}, hi[3] = {r->box.hi.x, r->box.hi.y, r->box.hi.z};
     for (int k = 0; k < 3; k++) q->pt[k] = (float)fmin(fmax(q->o[k] + t * q->d[k], lo[k]), hi[k]);
@@ -477,7 +477,7 @@ static void rc_point(const rc_t *r, rc_ray *q, double t)
 /* Clip the ray to B and classify it: RC_MISS (it misses B, so everything),
  * RC_FAR (too far out to classify soundly: use the root list) or RC_INSIDE
  * (q->pt set). */
-static int rc_classify(const rc_t *r, const ray_t *ray, rc_ray *q)
+static int rcls_classify(const rcls_t *r, const ray_t *ray, rcls_ray *q)
 {
     q->face = dircube_face(ray->dir);
     dircube_uv(ray->dir, q->face, &q->pt[3], &q->pt[4]);
@@ -507,7 +507,7 @@ static int rc_classify(const rc_t *r, const ray_t *ray, rc_ray *q)
     if (!(1e-15 * (om + tm * dm) <= 0.25 * r->pad)) return RC_FAR;
     if (miss || t0 > t1) return RC_MISS;
     q->tstart = t0, q->texit = t1;
-    rc_point(r, q, t0);
+    rcls_point(r, q, t0);
     return RC_INSIDE;
 }
 
@@ -518,7 +518,7 @@ static int rc_classify(const rc_t *r, const ray_t *ray, rc_ray *q)
  * (exhaustive search would take it), so the stop waits until the next
  * minimum extent is clearly beyond (pad: some 16 ulps at the scene's scale,
  * and 1e-6 of the distances involved). */
-static double rc_reach(const rc_t *r, const rc_ray *q, float t)
+static double rcls_reach(const rcls_t *r, const rcls_ray *q, float t)
 {
     double o = q->s * q->o[q->a], dt = (double)t * fabs(q->d[q->a]);
     return o + dt + r->pad + 1e-6 * (fabs(o) + dt);
@@ -526,34 +526,34 @@ static double rc_reach(const rc_t *r, const rc_ray *q, float t)
 
 /* Push the ray to where it crosses plane (along the face's direction):
  * false when that is past B (nothing is left to find). */
-static bool rc_push(const rc_t *r, rc_ray *q, float plane)
+static bool rcls_push(const rcls_t *r, rcls_ray *q, float plane)
 {
     double t = (q->s * plane - q->o[q->a]) / q->d[q->a];
     t -= 1e-12 * fabs(t); /* before the crossing is always sound, past it not */
     if (!(t < q->texit)) return false;
     if (t > q->tstart) q->tstart = t;
-    rc_point(r, q, q->tstart);
+    rcls_point(r, q, q->tstart);
     return true;
 }
 
 /* Figure 23 for one ray: classify, then process the candidates in order
  * until the stopping rule, pushing past truncation planes. */
-BODY bool rc_walk(rc_t *r, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c, const bool shadow,
+BODY bool rcls_walk(rcls_t *r, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c, const bool shadow,
                   const bool counting)
 {
-    rc_ray q;
-    int cls = rc_classify(r, ray, &q);
+    rcls_ray q;
+    int cls = rcls_classify(r, ray, &q);
     if (counting) c->box_tests++;
     if (cls == RC_MISS) return false;
     uint32_t rid = r->truncate > 0 ? mailbox_next_ray(&ctx->mb) : 0;
-    uint32_t h = cls == RC_FAR ? (uint32_t)q.face : rc_locate(r, ctx, q.face, q.pt, c, counting);
+    uint32_t h = cls == RC_FAR ? (uint32_t)q.face : rcls_locate(r, ctx, q.face, q.pt, c, counting);
     const float *key = r->key + (size_t)q.face * r->n;
     bool found = false;
     for (int pushes = 0;; pushes++) {
-        const rc_node *nd = &r->nodes[h];
+        const rcls_node *nd = &r->nodes[h];
         const uint32_t *ids = r->pool + nd->list;
         if (counting && nd->count == 0) c->empty_leaves++;
-        double reach = rc_reach(r, &q, shadow ? ray->tfar : hit->t);
+        double reach = rcls_reach(r, &q, shadow ? ray->tfar : hit->t);
         bool stopped = false;
         for (uint32_t i = 0; i < nd->count; i++) {
             uint32_t id = ids[i];
@@ -572,7 +572,7 @@ BODY bool rc_walk(rc_t *r, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counter
                 if (prim_test_any(r->p, id, ray, c, counting)) return true;
             } else if (prim_test_closest(r->p, id, ray, hit, c, counting)) {
                 found = true;
-                reach = rc_reach(r, &q, hit->t);
+                reach = rcls_reach(r, &q, hit->t);
             }
         }
         /* Done unless the list was truncated at a plane the ray reaches. */
@@ -581,39 +581,39 @@ BODY bool rc_walk(rc_t *r, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counter
             h = (uint32_t)q.face; /* the complete root list; the mailbox skips what was tested */
             continue;
         }
-        if (!rc_push(r, &q, nd->tplane)) break;
-        h = rc_locate(r, ctx, q.face, q.pt, c, counting);
+        if (!rcls_push(r, &q, nd->tplane)) break;
+        h = rcls_locate(r, ctx, q.face, q.pt, c, counting);
     }
     return found;
 }
 
-static bool rc_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
+static bool rcls_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
 {
-    return rc_walk((rc_t *)a, ctx, ray, hit, c, false, true);
+    return rcls_walk((rcls_t *)a, ctx, ray, hit, c, false, true);
 }
 
-static bool rc_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+static bool rcls_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
 {
     hit_t h = hit_none(ray);
-    return rc_walk((rc_t *)a, ctx, ray, &h, c, true, true);
+    return rcls_walk((rcls_t *)a, ctx, ray, &h, c, true, true);
 }
 
-static bool rc_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
+static bool rcls_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
 {
-    return rc_walk((rc_t *)a, ctx, ray, hit, NULL, false, false);
+    return rcls_walk((rcls_t *)a, ctx, ray, hit, NULL, false, false);
 }
 
-static bool rc_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
+static bool rcls_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
 {
     hit_t h = hit_none(ray);
-    return rc_walk((rc_t *)a, ctx, ray, &h, NULL, true, false);
+    return rcls_walk((rcls_t *)a, ctx, ray, &h, NULL, true, false);
 }
 
 /* -------------------------------------------------------------- context */
 
-static accel_ctx *rc_context_new(accel *a)
+static accel_ctx *rcls_context_new(accel *a)
 {
-    rc_t *r = (rc_t *)a;
+    rcls_t *r = (rcls_t *)a;
     /* context_new cannot fail through the interface: out of memory is exit 2 (prims/checked_alloc.h) */
     accel_ctx *ctx = checked_calloc(1, sizeof *ctx, "a raycls tracing context");
     for (int f = 0; f < RC_ROOTS; f++) ctx->cache[f] = UINT32_MAX;
@@ -622,7 +622,7 @@ static accel_ctx *rc_context_new(accel *a)
     return ctx;
 }
 
-static void rc_context_free(accel_ctx *ctx)
+static void rcls_context_free(accel_ctx *ctx)
 {
     if (!ctx) return;
     mailbox_free(&ctx->mb);
@@ -631,9 +631,9 @@ static void rc_context_free(accel_ctx *ctx)
 
 /* ---------------------------------------------------------------- build */
 
-static void rc_destroy(accel *a)
+static void rcls_destroy(accel *a)
 {
-    rc_t *r = (rc_t *)a;
+    rcls_t *r = (rcls_t *)a;
     if (!r) return;
     free(r->key);
     free(r->sphere);
@@ -656,7 +656,7 @@ static int cmp_keyed(const void *x, const void *y)
 
 /* B: the primitives' bounds padded by the slack (so the entry point of a
  * ray lies before every primitive), flat axes widened as the grid does. */
-static void scene_box(rc_t *r)
+static void scene_box(rcls_t *r)
 {
     const prims_t *p = r->p;
     box3 b = p->count && !box_is_empty(p->box) ? p->box : (box3){{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}};
@@ -673,7 +673,7 @@ static void scene_box(rc_t *r)
 }
 
 /* Keys, spheres and the six sorted root lists. */
-static void build_roots(rc_t *r, keyed *scratch)
+static void build_roots(rcls_t *r, keyed *scratch)
 {
     const prims_t *p = r->p;
     for (uint32_t id = 0; id < r->n; id++) {
@@ -702,7 +702,7 @@ static void build_roots(rc_t *r, keyed *scratch)
         qsort(scratch, r->n, sizeof *scratch, cmp_keyed);
         uint32_t *list = r->pool + (size_t)f * r->n;
         for (uint32_t i = 0; i < r->n; i++) list[i] = scratch[i].id;
-        rc_node *nd = &r->nodes[f];
+        rcls_node *nd = &r->nodes[f];
         memset(nd, 0, sizeof *nd);
         for (int k = 0; k < 3; k++) nd->lo[k] = get3(r->box.lo, k), nd->hi[k] = get3(r->box.hi, k);
         nd->lo[3] = nd->lo[4] = -1.0f, nd->hi[3] = nd->hi[4] = 1.0f;
@@ -715,21 +715,21 @@ static void build_roots(rc_t *r, keyed *scratch)
 
 /* lazy=off: every hypercube by the same rule, breadth first (the node
  * array is the queue), so that memcap, if it stops the build, stops it at
- * an even depth everywhere. Hypercubes no ray can reach (rc_reachable) keep
+ * an even depth everywhere. Hypercubes no ray can reach (rcls_reachable) keep
  * their parent's list and are not split. */
-static void build_eager(rc_t *r)
+static void build_eager(rcls_t *r)
 {
     for (uint32_t h = 0; h < r->nnodes && !r->capped; h++) {
-        if (!rc_reachable(r, h)) continue;
-        if (!r->nodes[h].own && !rc_cull(r, h)) {
+        if (!rcls_reachable(r, h)) continue;
+        if (!r->nodes[h].own && !rcls_cull(r, h)) {
             refuse(r);
             break;
         }
-        if (wants_split(r, &r->nodes[h]) && !rc_split(r, h)) refuse(r);
+        if (wants_split(r, &r->nodes[h]) && !rcls_split(r, h)) refuse(r);
     }
 }
 
-static accel *rc_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+static accel *rcls_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
     static const char *const onoff[] = {"off", "on", NULL};
     static const char *const beams[] = {"cone", "exact", NULL};
@@ -750,7 +750,7 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
 
     const prims_t *p = &scene->prims;
     uint64_t n = p->count;
-    uint64_t base = fixed_bytes(p->count) + RC_ROOTS * sizeof(rc_node) + RC_ROOTS * n * 4;
+    uint64_t base = fixed_bytes(p->count) + RC_ROOTS * sizeof(rcls_node) + RC_ROOTS * n * 4;
     if (memcap_exceeded(memcap_add(base, n * sizeof(keyed)), (uint64_t)memcap, err, errlen,
                         "raycls over %llu primitives: six sorted root lists, keys and spheres",
                         (unsigned long long)n))
@@ -760,7 +760,7 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
         return NULL;
     }
 
-    rc_t *r = calloc(1, sizeof *r);
+    rcls_t *r = calloc(1, sizeof *r);
     keyed *scratch = NULL;
     if (!r) goto oom;
     r->base.scene = scene;
@@ -788,21 +788,21 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
 oom:
     free(scratch);
     snprintf(err, errlen, "out of memory building raycls over %llu primitives", (unsigned long long)n);
-    rc_destroy(r ? &r->base : NULL);
+    rcls_destroy(r ? &r->base : NULL);
     return NULL;
 }
 
 /* ------------------------------------------------------- version 2 */
 
-static size_t rc_memory(const accel *a) { return (size_t)in_use((const rc_t *)a); }
+static size_t rcls_memory(const accel *a) { return (size_t)in_use((const rcls_t *)a); }
 
-static int rc_stats(const accel *a, accel_stat *out, int max)
+static int rcls_stats(const accel *a, accel_stat *out, int max)
 {
-    const rc_t *r = (const rc_t *)a;
+    const rcls_t *r = (const rcls_t *)a;
     uint64_t interior = 0, leaves = 0, empty = 0, entries = 0;
     uint32_t depth = 0;
     for (uint32_t h = 0; h < r->nnodes; h++) {
-        const rc_node *nd = &r->nodes[h];
+        const rcls_node *nd = &r->nodes[h];
         if (nd->child) {
             interior++;
             continue;
@@ -831,9 +831,9 @@ static int rc_stats(const accel *a, accel_stat *out, int max)
 /* Lazy: back to the six roots and their lists, which culling never writes
  * (new lists are appended past them), so nothing needs restoring but the
  * counts. Capacity is kept for the next pass. Eager: nothing changes. */
-static void rc_reset(accel *a)
+static void rcls_reset(accel *a)
 {
-    rc_t *r = (rc_t *)a;
+    rcls_t *r = (rcls_t *)a;
     if (!r->lazy) return;
     r->nnodes = RC_ROOTS;
     r->npool = (uint64_t)RC_ROOTS * r->n;
@@ -843,11 +843,11 @@ static void rc_reset(accel *a)
     r->lazy_ms = 0;
 }
 
-static box3 rc_bounds(const accel *a) { return ((const rc_t *)a)->box; }
+static box3 rcls_bounds(const accel *a) { return ((const rcls_t *)a)->box; }
 
 void raycls_debug_counts(const accel *a, uint32_t *nodes, uint64_t *entries, uint64_t *refusals)
 {
-    const rc_t *r = (const rc_t *)a;
+    const rcls_t *r = (const rcls_t *)a;
     *nodes = r->nnodes;
     *entries = r->npool;
     *refusals = r->refusals;
@@ -855,7 +855,7 @@ void raycls_debug_counts(const accel *a, uint32_t *nodes, uint64_t *entries, uin
 
 /* Besides the defaults: built eagerly, polyhedral culling, tiny lists that
  * force deep splits, truncated lists (pushes), and a deep eager tree. */
-static const char *const rc_variants[] = {"lazy=off", "beam=exact", "maxcands=1", "truncate=0.05",
+static const char *const rcls_variants[] = {"lazy=off", "beam=exact", "maxcands=1", "truncate=0.05",
                                           "truncate=0.02,maxcands=2,beam=exact", "lazy=off,maxdepth=3,maxcands=4",
                                           NULL};
 
@@ -868,17 +868,17 @@ const struct accel_ops accel_raycls = {
     .paper = "Arvo & Kirk, Fast Ray Tracing by Ray Classification, SIGGRAPH 1987; survey s6.1, s6.4, figs. 19, 22-24",
     .params = rc_params,
     .flags = ACCEL_MUTATES,
-    .build = rc_build,
-    .context_new = rc_context_new,
-    .context_free = rc_context_free,
-    .intersect = rc_intersect,
-    .occluded = rc_occluded,
-    .memory = rc_memory,
-    .destroy = rc_destroy,
-    .stats = rc_stats,
-    .reset = rc_reset,
-    .bounds = rc_bounds,
-    .intersect_fast = rc_intersect_fast,
-    .occluded_fast = rc_occluded_fast,
-    .variants = rc_variants,
+    .build = rcls_build,
+    .context_new = rcls_context_new,
+    .context_free = rcls_context_free,
+    .intersect = rcls_intersect,
+    .occluded = rcls_occluded,
+    .memory = rcls_memory,
+    .destroy = rcls_destroy,
+    .stats = rcls_stats,
+    .reset = rcls_reset,
+    .bounds = rcls_bounds,
+    .intersect_fast = rcls_intersect_fast,
+    .occluded_fast = rcls_occluded_fast,
+    .variants = rcls_variants,
 };

@@ -39,9 +39,9 @@
  * rounding admits a ray the cones were not built for.
  *
  * Memory (memory() counts it, plus the fallback's and the light buffer's):
- * rc_obj 24 bytes a cluster; ids and prim_obj 4 bytes a primitive; rc_cell
+ * rcoh_obj 24 bytes a cluster; ids and prim_obj 4 bytes a primitive; rcoh_cell
  * 8 bytes, 6 res^2 a cluster, cell (f, i, j) of cluster k at
- * (6k + f) res^2 + j res + i; rc_ref 8 bytes (cluster, d); the quadtree,
+ * (6k + f) res^2 + j res + i; rcoh_ref 8 bytes (cluster, d); the quadtree,
  * 56 bytes a node, 2 x 6 res^2 - 6 nodes.
  *
  * Counters: steps = list entries read; empty_leaves = empty cells read;
@@ -61,7 +61,7 @@
 #include "common/dircube.h"
 #include "common/float_res.h"
 #include "common/memcap.h"
-#include "common/prim_test.h"
+#include "common/prim_hit.h"
 #include "raycoh_ohta_maekawa.h"
 
 #define RC_UV_MARGIN 1e-3      /* cells grown by this in u and v */
@@ -70,10 +70,10 @@
 #define RC_STOP_SLACK 1e-5     /* t |dir| grown by this before comparing with d */
 #define RC_NO_OBJ UINT32_MAX
 
-typedef struct { vec3 c; float r; uint32_t first, count; } rc_obj; /* 24 bytes */
-typedef struct { uint32_t first, count; } rc_cell;                 /* 8 bytes */
-typedef struct { uint32_t obj; float d; } rc_ref;                  /* 8 bytes */
-static_assert(sizeof(rc_obj) == 24 && sizeof(rc_cell) == 8 && sizeof(rc_ref) == 8, "the sizes the header states");
+typedef struct { vec3 c; float r; uint32_t first, count; } rcoh_obj; /* 24 bytes */
+typedef struct { uint32_t first, count; } rcoh_cell;                 /* 8 bytes */
+typedef struct { uint32_t obj; float d; } rcoh_ref;                  /* 8 bytes */
+static_assert(sizeof(rcoh_obj) == 24 && sizeof(rcoh_cell) == 8 && sizeof(rcoh_ref) == 8, "the sizes the header states");
 
 /* A quadtree node over a block of one face's cells: the bounding cone of
  * the block's (grown) direction pyramids. Leaves are single cells. */
@@ -83,27 +83,27 @@ typedef struct {
     uint16_t i0, i1, j0, j1;   /* cells [i0, i1) x [j0, j1) */
     int32_t child[2];          /* -1: a leaf (one cell) */
     int32_t face;
-} rc_node;
+} rcoh_node;
 
 typedef struct {
     accel base;
     const prims_t *p;
     uint32_t res, objsize, nobj, ncell_per_obj;
-    rc_obj *objs;
+    rcoh_obj *objs;
     uint32_t *ids, *prim_obj;
-    rc_cell *cells;
-    rc_ref *refs;
+    rcoh_cell *cells;
+    rcoh_ref *refs;
     uint64_t nrefs, refs_cap, prim_refs;
-    rc_node *nodes;
+    rcoh_node *nodes;
     int32_t roots[6];
     uint32_t nnodes, nonempty;
     float margin;
     bool spheres; /* test a listed cluster's sphere before its primitives */
     accel *fb;
     accel *lb;    /* lights=on: the lights' direction cubes (a light buffer), else NULL */
-} rc_t;
+} rcoh_t;
 
-typedef struct { accel_ctx *fb; void (*fb_free)(accel_ctx *); } rc_ctx; /* the fallback's context */
+typedef struct { accel_ctx *fb; void (*fb_free)(accel_ctx *); } rcoh_ctx; /* the fallback's context */
 
 static const accel_param rc_params[] = {
     {"res", "8", "cells per direction-cube face side, 1..64 (6 res^2 cells per cluster)"},
@@ -142,7 +142,7 @@ static double angle_between(const double a[3], const double b[3])
 }
 
 /* The bounding cone of cells [i0, i1) x [j0, j1) of face f, grown. */
-static void block_cone(rc_node *n, int f, uint32_t res)
+static void block_cone(rcoh_node *n, int f, uint32_t res)
 {
     double u0 = -1.0 + 2.0 * n->i0 / res - RC_UV_MARGIN, u1 = -1.0 + 2.0 * n->i1 / res + RC_UV_MARGIN;
     double v0 = -1.0 + 2.0 * n->j0 / res - RC_UV_MARGIN, v1 = -1.0 + 2.0 * n->j1 / res + RC_UV_MARGIN;
@@ -160,11 +160,11 @@ static void block_cone(rc_node *n, int f, uint32_t res)
 }
 
 /* Build the quadtree below a block, halving its longer side; returns its index. */
-static int32_t build_node(rc_t *t, int f, uint16_t i0, uint16_t i1, uint16_t j0, uint16_t j1)
+static int32_t build_node(rcoh_t *t, int f, uint16_t i0, uint16_t i1, uint16_t j0, uint16_t j1)
 {
     int32_t k = (int32_t)t->nnodes++;
-    rc_node *n = &t->nodes[k];
-    *n = (rc_node){.i0 = i0, .i1 = i1, .j0 = j0, .j1 = j1, .child = {-1, -1}};
+    rcoh_node *n = &t->nodes[k];
+    *n = (rcoh_node){.i0 = i0, .i1 = i1, .j0 = j0, .j1 = j1, .child = {-1, -1}};
     block_cone(n, f, t->res);
     if (i1 - i0 == 1 && j1 - j0 == 1) return k;
     int32_t a, b;
@@ -180,12 +180,12 @@ static int32_t build_node(rc_t *t, int f, uint16_t i0, uint16_t i1, uint16_t j0,
 }
 
 /* A cone of directions: unit axis, half-angle (>= pi: every direction). */
-typedef struct { double axis[3], theta; } rc_cone;
+typedef struct { double axis[3], theta; } rcoh_cone;
 
 /* The cells (local index (f res + j) res + i) of every leaf below node k whose cone meets c. */
-static uint32_t cone_cells(const rc_t *t, int32_t k, const rc_cone *c, uint32_t *out, uint32_t n)
+static uint32_t cone_cells(const rcoh_t *t, int32_t k, const rcoh_cone *c, uint32_t *out, uint32_t n)
 {
-    const rc_node *nd = &t->nodes[k];
+    const rcoh_node *nd = &t->nodes[k];
     if (c->theta < M_PI && angle_between(nd->axis, c->axis) > nd->alpha + c->theta + RC_ANGLE_SLACK) return n;
     if (nd->child[0] < 0) {
         out[n++] = ((uint32_t)nd->face * t->res + nd->j0) * t->res + nd->i0;
@@ -196,7 +196,7 @@ static uint32_t cone_cells(const rc_t *t, int32_t k, const rc_cone *c, uint32_t 
 }
 
 /* The cell of A's cube (local index) that holds direction dir. */
-static inline uint32_t cell_of(const rc_t *t, vec3 dir)
+static inline uint32_t cell_of(const rcoh_t *t, vec3 dir)
 {
     int f = dircube_face(dir);
     float u, v;
@@ -211,7 +211,7 @@ static inline uint32_t cell_of(const rc_t *t, vec3 dir)
 /* ------------------------------------------------------------ build */
 
 /* Cluster k's bounding sphere: its box's centre, the farthest member box corner, rounded up. */
-static void cluster_sphere(const prims_t *p, const uint32_t *ids, rc_obj *o)
+static void cluster_sphere(const prims_t *p, const uint32_t *ids, rcoh_obj *o)
 {
     box3 b = prim_bounds(p, ids[0]);
     for (uint32_t i = 1; i < o->count; i++) b = box_union(b, prim_bounds(p, ids[i]));
@@ -241,19 +241,19 @@ static bool fits_cube(box3 b, float w)
  * members[mstart[c] .. mstart[c + 1]). */
 typedef struct {
     const uint32_t *mstart, *members;
-} rc_classes;
+} rcoh_classes;
 
 /* The clusters below BVH node k (over the distinct primitives): a leaf, or
  * a node one of whose children fits in a cube of side min_cell, is one
  * cluster (every copy of every primitive below it, leaf after leaf); any
  * other node is split into its children's. */
-static void emit_clusters(rc_t *t, const bvh_t *b, const rc_classes *cl, uint32_t k, float min_cell, uint32_t *first)
+static void emit_clusters(rcoh_t *t, const bvh_t *b, const rcoh_classes *cl, uint32_t k, float min_cell, uint32_t *first)
 {
     const bvh_node *nd = &b->nodes[k];
     bool whole = nd->count || fits_cube(b->nodes[nd->index].box, min_cell) ||
                  fits_cube(b->nodes[nd->index + 1].box, min_cell);
     if (whole) {
-        rc_obj *o = &t->objs[t->nobj];
+        rcoh_obj *o = &t->objs[t->nobj];
         o->first = *first, o->count = 0;
         uint32_t stack[64], top = 0; /* the median tree is balanced: depth about log2(n / objsize) */
         stack[top++] = k;
@@ -293,7 +293,7 @@ static void emit_clusters(rc_t *t, const bvh_t *b, const rc_classes *cl, uint32_
  * every copy of one goes into its cluster, which may so hold more than
  * objsize. Clusters of copies would all lie at one place, each seeing all
  * the others in every direction: lists quadratic in the copies. */
-static int make_clusters(rc_t *t)
+static int make_clusters(rcoh_t *t)
 {
     const prims_t *p = t->p;
     uint32_t n = p->count;
@@ -343,7 +343,7 @@ static int make_clusters(rc_t *t)
     }
     uint32_t first = 0;
     t->nobj = 0;
-    rc_classes cl = {mstart, members};
+    rcoh_classes cl = {mstart, members};
     if (m) emit_clusters(t, &b, &cl, 0, float_res_min_cell(p->box, t->margin), &first); /* m = 0: no tree */
     bvh_free(&b);
     free(mstart), free(members);
@@ -351,9 +351,9 @@ static int make_clusters(rc_t *t)
 }
 
 /* The cone and distance bound of rays from cluster a to cluster b, radii grown by g. */
-static rc_cone pair_cone(const rc_obj *a, const rc_obj *b, double g, float *d)
+static rcoh_cone pair_cone(const rcoh_obj *a, const rcoh_obj *b, double g, float *d)
 {
-    rc_cone c;
+    rcoh_cone c;
     c.axis[0] = (double)b->c.x - a->c.x, c.axis[1] = (double)b->c.y - a->c.y, c.axis[2] = (double)b->c.z - a->c.z;
     double D = sqrt(c.axis[0] * c.axis[0] + c.axis[1] * c.axis[1] + c.axis[2] * c.axis[2]);
     double R = (double)a->r + b->r + 2.0 * g;
@@ -370,17 +370,17 @@ static rc_cone pair_cone(const rc_obj *a, const rc_obj *b, double g, float *d)
     return c;
 }
 
-typedef struct { uint32_t obj; float d; } rc_pair;
+typedef struct { uint32_t obj; float d; } rcoh_pair;
 
 static int pair_cmp(const void *x, const void *y)
 {
-    const rc_pair *a = x, *b = y;
+    const rcoh_pair *a = x, *b = y;
     if (a->d != b->d) return a->d < b->d ? -1 : 1;
     return a->obj < b->obj ? -1 : a->obj > b->obj;
 }
 
 /* Room for m more refs, within the cap. */
-static int refs_reserve(rc_t *t, uint64_t m, uint64_t base_bytes, uint64_t cap, char *err, size_t errlen)
+static int refs_reserve(rcoh_t *t, uint64_t m, uint64_t base_bytes, uint64_t cap, char *err, size_t errlen)
 {
     if (t->nrefs + m <= t->refs_cap) return 0;
     uint64_t want = t->refs_cap ? t->refs_cap : 1024;
@@ -390,12 +390,12 @@ static int refs_reserve(rc_t *t, uint64_t m, uint64_t base_bytes, uint64_t cap, 
         snprintf(err, errlen, "raycoh: over 2^32 - 1 list entries: lower res or raise objsize");
         return -2;
     }
-    uint64_t bytes = memcap_add(base_bytes, memcap_mul(t->nrefs + m, sizeof(rc_ref)));
+    uint64_t bytes = memcap_add(base_bytes, memcap_mul(t->nrefs + m, sizeof(rcoh_ref)));
     if (memcap_exceeded(bytes, cap, err, errlen, "raycoh's clusters, cells and %llu list entries",
                         (unsigned long long)(t->nrefs + m)))
         return -2;
-    if (memcap_mul(want, sizeof(rc_ref)) + base_bytes > cap * 1048576ull) want = t->nrefs + m;
-    rc_ref *r = realloc(t->refs, (size_t)want * sizeof *r);
+    if (memcap_mul(want, sizeof(rcoh_ref)) + base_bytes > cap * 1048576ull) want = t->nrefs + m;
+    rcoh_ref *r = realloc(t->refs, (size_t)want * sizeof *r);
     if (!r) return -1;
     t->refs = r, t->refs_cap = want;
     return 0;
@@ -406,10 +406,10 @@ static int refs_reserve(rc_t *t, uint64_t m, uint64_t base_bytes, uint64_t cap, 
  * ref (nc (1 + nobj) entries in all); the refs are staged in the refs
  * array's tail, then counting-sorted by cell, stably, so each cell's run
  * stays sorted by d. */
-static int fill_cube(rc_t *t, uint32_t a, rc_pair *pairs, uint32_t *cellbuf, uint32_t *count, uint64_t base_bytes,
+static int fill_cube(rcoh_t *t, uint32_t a, rcoh_pair *pairs, uint32_t *cellbuf, uint32_t *count, uint64_t base_bytes,
                      uint64_t cap, char *err, size_t errlen)
 {
-    const rc_obj *A = &t->objs[a];
+    const rcoh_obj *A = &t->objs[a];
     uint32_t nc = t->ncell_per_obj;
     for (uint32_t b = 0; b < t->nobj; b++) {
         pairs[b].obj = b;
@@ -420,30 +420,30 @@ static int fill_cube(rc_t *t, uint32_t a, rc_pair *pairs, uint32_t *cellbuf, uin
     uint64_t m = 0;
     for (uint32_t k = 0; k < t->nobj; k++) {
         float d;
-        rc_cone c = pair_cone(A, &t->objs[pairs[k].obj], t->margin, &d);
+        rcoh_cone c = pair_cone(A, &t->objs[pairs[k].obj], t->margin, &d);
         uint32_t n = 0;
         for (int f = 0; f < 6; f++) n = cone_cells(t, t->roots[f], &c, cellbuf, n);
         int rc = refs_reserve(t, m + n, base_bytes, cap, err, errlen);
         if (rc) return rc;
         for (uint32_t i = 0; i < n; i++) {
-            t->refs[t->nrefs + m + i] = (rc_ref){pairs[k].obj, d};
+            t->refs[t->nrefs + m + i] = (rcoh_ref){pairs[k].obj, d};
             cellbuf[nc + m + i] = cellbuf[i];
             count[cellbuf[i]]++;
         }
         m += n;
     }
-    rc_cell *cells = &t->cells[(size_t)a * nc];
+    rcoh_cell *cells = &t->cells[(size_t)a * nc];
     uint32_t first = (uint32_t)t->nrefs;
     for (uint32_t c = 0; c < nc; c++) {
         cells[c].first = first, cells[c].count = 0;
         first += count[c];
         t->nonempty += count[c] != 0;
     }
-    rc_ref *staged = malloc((size_t)m * sizeof *staged + 1);
+    rcoh_ref *staged = malloc((size_t)m * sizeof *staged + 1);
     if (!staged) return -1;
     memcpy(staged, &t->refs[t->nrefs], (size_t)m * sizeof *staged);
     for (uint64_t i = 0; i < m; i++) {
-        rc_cell *cl = &cells[cellbuf[nc + i]];
+        rcoh_cell *cl = &cells[cellbuf[nc + i]];
         t->refs[cl->first + cl->count++] = staged[i];
         t->prim_refs += t->objs[staged[i].obj].count;
     }
@@ -452,9 +452,9 @@ static int fill_cube(rc_t *t, uint32_t a, rc_pair *pairs, uint32_t *cellbuf, uin
     return 0;
 }
 
-static void rc_destroy(accel *a)
+static void rcoh_destroy(accel *a)
 {
-    rc_t *t = (rc_t *)a;
+    rcoh_t *t = (rcoh_t *)a;
     if (!t) return;
     if (t->fb) t->fb->ops->destroy(t->fb);
     if (t->lb) t->lb->ops->destroy(t->lb);
@@ -514,12 +514,12 @@ static int read_params(const accel_params *params, long *res, long *objsize, lon
     return 0;
 }
 
-static accel *rc_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
+static accel *rcoh_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
     long res, objsize, cap;
     int spheres, lights;
     if (read_params(params, &res, &objsize, &cap, &spheres, &lights, err, errlen)) return NULL;
-    rc_t *t = calloc(1, sizeof *t);
+    rcoh_t *t = calloc(1, sizeof *t);
     if (!t) goto oom;
     t->p = &scene->prims;
     t->res = (uint32_t)res, t->objsize = (uint32_t)objsize, t->spheres = spheres == 1;
@@ -529,10 +529,10 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
     if (lights == 1 && !(t->lb = build_lights(scene, params, err, errlen))) goto fail;
     uint32_t n = t->p->count;
     uint64_t maxobj = n ? (n + t->objsize - 1) / t->objsize * 2 : 0; /* median leaves hold at least objsize/2 */
-    uint64_t nodes_bytes = memcap_mul(4 * (uint64_t)t->ncell_per_obj, sizeof(rc_node));
-    uint64_t base = memcap_add(memcap_add(memcap_mul(maxobj, sizeof(rc_obj)), memcap_mul(n, 8)),
-                               memcap_add(memcap_mul(memcap_mul(maxobj, t->ncell_per_obj), sizeof(rc_cell)), nodes_bytes));
-    if (memcap_exceeded(memcap_add(base, memcap_mul(maxobj, t->ncell_per_obj * sizeof(rc_ref))), (uint64_t)cap, err,
+    uint64_t nodes_bytes = memcap_mul(4 * (uint64_t)t->ncell_per_obj, sizeof(rcoh_node));
+    uint64_t base = memcap_add(memcap_add(memcap_mul(maxobj, sizeof(rcoh_obj)), memcap_mul(n, 8)),
+                               memcap_add(memcap_mul(memcap_mul(maxobj, t->ncell_per_obj), sizeof(rcoh_cell)), nodes_bytes));
+    if (memcap_exceeded(memcap_add(base, memcap_mul(maxobj, t->ncell_per_obj * sizeof(rcoh_ref))), (uint64_t)cap, err,
                         errlen, "raycoh's %llu clusters with %u cells each and their self entries",
                         (unsigned long long)maxobj, t->ncell_per_obj))
         goto fail;
@@ -543,20 +543,20 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
     for (int f = 0; f < 6; f++) t->roots[f] = build_node(t, f, 0, (uint16_t)t->res, 0, (uint16_t)t->res);
     if (n && make_clusters(t)) goto oom;
     /* Every cluster is listed in at least one cell of every cube: nobj^2 entries at least, known before any. */
-    uint64_t least = memcap_add(memcap_mul(memcap_mul(t->nobj, t->nobj), sizeof(rc_ref)),
-                                memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rc_cell) + 4));
+    uint64_t least = memcap_add(memcap_mul(memcap_mul(t->nobj, t->nobj), sizeof(rcoh_ref)),
+                                memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rcoh_cell) + 4));
     if (memcap_exceeded(least, (uint64_t)cap, err, errlen, "raycoh's %u clusters, all pairs listed at least once,",
                         t->nobj))
         goto fail;
     t->cells = calloc((size_t)t->nobj * t->ncell_per_obj + 1, sizeof *t->cells);
     /* Per cube: the pairs, and every cluster's cells (a cube may list a cluster in all its cells). */
-    rc_pair *pairs = malloc((size_t)t->nobj * sizeof *pairs + 1);
+    rcoh_pair *pairs = malloc((size_t)t->nobj * sizeof *pairs + 1);
     uint32_t *count = malloc((size_t)t->ncell_per_obj * sizeof *count);
     uint64_t cb = (uint64_t)t->ncell_per_obj * (1 + (uint64_t)t->nobj);
     uint32_t *cellbuf = malloc((size_t)cb * sizeof *cellbuf);
     int rc = t->cells && pairs && count && cellbuf ? 0 : -1;
-    uint64_t base_bytes = memcap_add(memcap_add(memcap_mul(t->nobj, sizeof(rc_obj)), memcap_mul(n, 8)),
-                                     memcap_add(memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rc_cell)),
+    uint64_t base_bytes = memcap_add(memcap_add(memcap_mul(t->nobj, sizeof(rcoh_obj)), memcap_mul(n, 8)),
+                                     memcap_add(memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rcoh_cell)),
                                                 nodes_bytes));
     for (uint32_t a = 0; a < t->nobj && rc == 0; a++)
         rc = fill_cube(t, a, pairs, cellbuf, count, base_bytes, (uint64_t)cap, err, errlen);
@@ -567,7 +567,7 @@ static accel *rc_build(const scene_t *scene, const accel_params *params, char *e
 oom:
     snprintf(err, errlen, "raycoh: out of memory building over %u primitives", scene->prims.count);
 fail:
-    rc_destroy(t ? &t->base : NULL);
+    rcoh_destroy(t ? &t->base : NULL);
     return NULL;
 }
 
@@ -576,12 +576,12 @@ fail:
 /* The cluster whose cube answers ray, or RC_NO_OBJ: the origin primitive in
  * range and the ray's org within its cluster's sphere grown by margin (the
  * cones assume 2 margin: the rounding of this test cannot matter). */
-static inline uint32_t origin_cluster(const rc_t *t, const ray_t *ray)
+static inline uint32_t origin_cluster(const rcoh_t *t, const ray_t *ray)
 {
     uint32_t o = ray->origin;
     if (o >= t->p->count) return RC_NO_OBJ;
     uint32_t k = t->prim_obj[o];
-    const rc_obj *A = &t->objs[k];
+    const rcoh_obj *A = &t->objs[k];
     double dx = (double)ray->org.x - A->c.x, dy = (double)ray->org.y - A->c.y, dz = (double)ray->org.z - A->c.z;
     double r = (double)A->r + t->margin;
     return dx * dx + dy * dy + dz * dz <= r * r ? k : RC_NO_OBJ;
@@ -601,7 +601,7 @@ static inline double ray_dir_len(const ray_t *ray)
  * are, and by 1e-6 relative) and the chord through it overlaps the range
  * (by 1e-6 of the distances involved). In double, from the perpendicular
  * offset (no cancellation of b^2 against |o|^2 |d|^2). */
-static inline bool sphere_may_hit(const rc_t *t, const rc_obj *o, const ray_t *ray, float tmax)
+static inline bool sphere_may_hit(const rcoh_t *t, const rcoh_obj *o, const ray_t *ray, float tmax)
 {
     double ox = (double)ray->org.x - o->c.x, oy = (double)ray->org.y - o->c.y, oz = (double)ray->org.z - o->c.z;
     double dx = ray->dir.x, dy = ray->dir.y, dz = ray->dir.z, dd = dx * dx + dy * dy + dz * dz;
@@ -613,34 +613,34 @@ static inline bool sphere_may_hit(const rc_t *t, const rc_obj *o, const ray_t *r
     return tca + h + slack >= ray->tnear && tca - h - slack <= tmax;
 }
 
-static inline __attribute__((always_inline)) bool walk_closest(const rc_t *t, uint32_t k, const ray_t *ray, hit_t *hit,
+static inline __attribute__((always_inline)) bool walk_closest(const rcoh_t *t, uint32_t k, const ray_t *ray, hit_t *hit,
                                                                counters_t *c, const bool counting)
 {
-    const rc_cell *cl = &t->cells[(size_t)k * t->ncell_per_obj + cell_of(t, ray->dir)];
+    const rcoh_cell *cl = &t->cells[(size_t)k * t->ncell_per_obj + cell_of(t, ray->dir)];
     double dl = ray_dir_len(ray);
     if (counting && !cl->count) c->empty_leaves++;
-    const rc_ref *r = &t->refs[cl->first], *end = r + cl->count;
+    const rcoh_ref *r = &t->refs[cl->first], *end = r + cl->count;
     for (; r < end; r++) {
         if (r->d > hit->t * dl) break; /* every later object lies beyond the closest hit (double: no overflow) */
         if (counting) c->steps++, c->box_tests += t->spheres;
-        const rc_obj *o = &t->objs[r->obj];
+        const rcoh_obj *o = &t->objs[r->obj];
         if (t->spheres && !sphere_may_hit(t, o, ray, hit->t)) continue;
         for (uint32_t i = 0; i < o->count; i++) prim_test_closest(t->p, t->ids[o->first + i], ray, hit, c, counting);
     }
     return hit->prim != HIT_NONE;
 }
 
-static inline __attribute__((always_inline)) bool walk_any(const rc_t *t, uint32_t k, const ray_t *ray, counters_t *c,
+static inline __attribute__((always_inline)) bool walk_any(const rcoh_t *t, uint32_t k, const ray_t *ray, counters_t *c,
                                                            const bool counting)
 {
-    const rc_cell *cl = &t->cells[(size_t)k * t->ncell_per_obj + cell_of(t, ray->dir)];
+    const rcoh_cell *cl = &t->cells[(size_t)k * t->ncell_per_obj + cell_of(t, ray->dir)];
     double reach = ray->tfar * ray_dir_len(ray);
     if (counting && !cl->count) c->empty_leaves++;
-    const rc_ref *r = &t->refs[cl->first], *end = r + cl->count;
+    const rcoh_ref *r = &t->refs[cl->first], *end = r + cl->count;
     for (; r < end; r++) {
         if (r->d > reach) break;
         if (counting) c->steps++, c->box_tests += t->spheres;
-        const rc_obj *o = &t->objs[r->obj];
+        const rcoh_obj *o = &t->objs[r->obj];
         if (t->spheres && !sphere_may_hit(t, o, ray, ray->tfar)) continue;
         for (uint32_t i = 0; i < o->count; i++)
             if (prim_test_any(t->p, t->ids[o->first + i], ray, c, counting)) return true;
@@ -648,77 +648,77 @@ static inline __attribute__((always_inline)) bool walk_any(const rc_t *t, uint32
     return false;
 }
 
-static accel_ctx *rc_context_new(accel *a)
+static accel_ctx *rcoh_context_new(accel *a)
 {
-    rc_t *t = (rc_t *)a;
-    rc_ctx *x = calloc(1, sizeof *x);
+    rcoh_t *t = (rcoh_t *)a;
+    rcoh_ctx *x = calloc(1, sizeof *x);
     if (x && t->fb->ops->context_new) x->fb = t->fb->ops->context_new(t->fb), x->fb_free = t->fb->ops->context_free;
     return (accel_ctx *)x;
 }
 
-static void rc_context_free(accel_ctx *ctx)
+static void rcoh_context_free(accel_ctx *ctx)
 {
-    rc_ctx *x = (rc_ctx *)ctx;
+    rcoh_ctx *x = (rcoh_ctx *)ctx;
     if (x && x->fb_free) x->fb_free(x->fb);
     free(x);
 }
 
-static bool rc_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
+static bool rcoh_intersect(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit, counters_t *c)
 {
-    rc_t *t = (rc_t *)a;
+    rcoh_t *t = (rcoh_t *)a;
     uint32_t k = origin_cluster(t, ray);
-    if (k == RC_NO_OBJ) return t->fb->ops->intersect(t->fb, ((rc_ctx *)ctx)->fb, ray, hit, c);
+    if (k == RC_NO_OBJ) return t->fb->ops->intersect(t->fb, ((rcoh_ctx *)ctx)->fb, ray, hit, c);
     return walk_closest(t, k, ray, hit, c, true);
 }
 
-static bool rc_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
+static bool rcoh_occluded(accel *a, accel_ctx *ctx, const ray_t *ray, counters_t *c)
 {
-    rc_t *t = (rc_t *)a;
+    rcoh_t *t = (rcoh_t *)a;
     if (t->lb && ray->light != RAY_NO_LIGHT) return t->lb->ops->occluded(t->lb, NULL, ray, c);
     uint32_t k = origin_cluster(t, ray);
-    if (k == RC_NO_OBJ) return t->fb->ops->occluded(t->fb, ((rc_ctx *)ctx)->fb, ray, c);
+    if (k == RC_NO_OBJ) return t->fb->ops->occluded(t->fb, ((rcoh_ctx *)ctx)->fb, ray, c);
     return walk_any(t, k, ray, c, true);
 }
 
-static bool rc_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
+static bool rcoh_intersect_fast(accel *a, accel_ctx *ctx, const ray_t *ray, hit_t *hit)
 {
-    rc_t *t = (rc_t *)a;
+    rcoh_t *t = (rcoh_t *)a;
     uint32_t k = origin_cluster(t, ray);
     if (k == RC_NO_OBJ) {
         accel *f = t->fb;
-        if (f->ops->version >= 2 && f->ops->intersect_fast) return f->ops->intersect_fast(f, ((rc_ctx *)ctx)->fb, ray, hit);
+        if (f->ops->version >= 2 && f->ops->intersect_fast) return f->ops->intersect_fast(f, ((rcoh_ctx *)ctx)->fb, ray, hit);
         counters_t dummy = {0};
-        return f->ops->intersect(f, ((rc_ctx *)ctx)->fb, ray, hit, &dummy);
+        return f->ops->intersect(f, ((rcoh_ctx *)ctx)->fb, ray, hit, &dummy);
     }
     return walk_closest(t, k, ray, hit, NULL, false);
 }
 
-static bool rc_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
+static bool rcoh_occluded_fast(accel *a, accel_ctx *ctx, const ray_t *ray)
 {
-    rc_t *t = (rc_t *)a;
+    rcoh_t *t = (rcoh_t *)a;
     if (t->lb && ray->light != RAY_NO_LIGHT) return t->lb->ops->occluded_fast(t->lb, NULL, ray);
     uint32_t k = origin_cluster(t, ray);
     if (k == RC_NO_OBJ) {
         accel *f = t->fb;
-        if (f->ops->version >= 2 && f->ops->occluded_fast) return f->ops->occluded_fast(f, ((rc_ctx *)ctx)->fb, ray);
+        if (f->ops->version >= 2 && f->ops->occluded_fast) return f->ops->occluded_fast(f, ((rcoh_ctx *)ctx)->fb, ray);
         counters_t dummy = {0};
-        return f->ops->occluded(f, ((rc_ctx *)ctx)->fb, ray, &dummy);
+        return f->ops->occluded(f, ((rcoh_ctx *)ctx)->fb, ray, &dummy);
     }
     return walk_any(t, k, ray, NULL, false);
 }
 
-static size_t rc_memory(const accel *a)
+static size_t rcoh_memory(const accel *a)
 {
-    const rc_t *t = (const rc_t *)a;
-    return sizeof *t + (size_t)t->nobj * sizeof(rc_obj) + (size_t)t->p->count * 8 +
-           (size_t)t->nobj * t->ncell_per_obj * sizeof(rc_cell) + (size_t)t->nrefs * sizeof(rc_ref) +
-           (size_t)t->nnodes * sizeof(rc_node) + t->fb->ops->memory(t->fb) +
+    const rcoh_t *t = (const rcoh_t *)a;
+    return sizeof *t + (size_t)t->nobj * sizeof(rcoh_obj) + (size_t)t->p->count * 8 +
+           (size_t)t->nobj * t->ncell_per_obj * sizeof(rcoh_cell) + (size_t)t->nrefs * sizeof(rcoh_ref) +
+           (size_t)t->nnodes * sizeof(rcoh_node) + t->fb->ops->memory(t->fb) +
            (t->lb ? t->lb->ops->memory(t->lb) : 0);
 }
 
-static int rc_stats(const accel *a, accel_stat *out, int max)
+static int rcoh_stats(const accel *a, accel_stat *out, int max)
 {
-    const rc_t *t = (const rc_t *)a;
+    const rcoh_t *t = (const rcoh_t *)a;
     uint64_t cells = (uint64_t)t->nobj * t->ncell_per_obj;
     accel_stat s[] = {
         {"nodes", (double)cells},
@@ -735,7 +735,7 @@ static int rc_stats(const accel *a, accel_stat *out, int max)
     return n;
 }
 
-static const char *const rc_variants[] = {
+static const char *const rcoh_variants[] = {
     "res=1,objsize=1",
     "res=3,objsize=5,spheres=off",
     "res=16,objsize=8,fallback=grid",
@@ -752,17 +752,17 @@ const struct accel_ops accel_raycoh = {
     .paper = "Ohta & Maekawa, CG International 1987; Arvo & Kirk 1989 survey s6.1, s6.3, s6.5, figs. 19-21",
     .params = rc_params,
     .flags = 0,
-    .build = rc_build,
-    .context_new = rc_context_new,
-    .context_free = rc_context_free,
-    .intersect = rc_intersect,
-    .occluded = rc_occluded,
-    .memory = rc_memory,
-    .destroy = rc_destroy,
-    .stats = rc_stats,
-    .intersect_fast = rc_intersect_fast,
-    .occluded_fast = rc_occluded_fast,
-    .variants = rc_variants,
+    .build = rcoh_build,
+    .context_new = rcoh_context_new,
+    .context_free = rcoh_context_free,
+    .intersect = rcoh_intersect,
+    .occluded = rcoh_occluded,
+    .memory = rcoh_memory,
+    .destroy = rcoh_destroy,
+    .stats = rcoh_stats,
+    .intersect_fast = rcoh_intersect_fast,
+    .occluded_fast = rcoh_occluded_fast,
+    .variants = rcoh_variants,
 };
 
 /* ------------------------------------------------------------ test hooks */
@@ -770,7 +770,7 @@ const struct accel_ops accel_raycoh = {
 bool raycoh_debug_listed(vec3 c1, float r1, vec3 c2, float r2, uint32_t res, vec3 dir)
 {
     /* The quadtree of the last res asked for, kept (tests ask many times). */
-    static rc_t t;
+    static rcoh_t t;
     static uint32_t *cells;
     if (t.res != res) {
         free(t.nodes), free(cells);
@@ -781,9 +781,9 @@ bool raycoh_debug_listed(vec3 c1, float r1, vec3 c2, float r2, uint32_t res, vec
         if (!t.nodes || !cells) abort();
         for (int f = 0; f < 6; f++) t.roots[f] = build_node(&t, f, 0, (uint16_t)res, 0, (uint16_t)res);
     }
-    rc_obj a = {c1, r1, 0, 1}, b = {c2, r2, 0, 1};
+    rcoh_obj a = {c1, r1, 0, 1}, b = {c2, r2, 0, 1};
     float d;
-    rc_cone c = pair_cone(&a, &b, 0.0, &d);
+    rcoh_cone c = pair_cone(&a, &b, 0.0, &d);
     uint32_t n = 0, want = cell_of(&t, dir);
     for (int f = 0; f < 6; f++) n = cone_cells(&t, t.roots[f], &c, cells, n);
     bool found = false;
@@ -793,12 +793,12 @@ bool raycoh_debug_listed(vec3 c1, float r1, vec3 c2, float r2, uint32_t res, vec
 
 float raycoh_debug_depth(vec3 c1, float r1, vec3 c2, float r2)
 {
-    rc_obj a = {c1, r1, 0, 1}, b = {c2, r2, 0, 1};
+    rcoh_obj a = {c1, r1, 0, 1}, b = {c2, r2, 0, 1};
     float d;
     pair_cone(&a, &b, 0.0, &d);
     return d;
 }
 
-uint32_t raycoh_debug_clusters(const accel *a) { return ((const rc_t *)a)->nobj; }
+uint32_t raycoh_debug_clusters(const accel *a) { return ((const rcoh_t *)a)->nobj; }
 
-bool raycoh_debug_uses_cube(const accel *a, const ray_t *ray) { return origin_cluster((const rc_t *)a, ray) != RC_NO_OBJ; }
+bool raycoh_debug_uses_cube(const accel *a, const ray_t *ray) { return origin_cluster((const rcoh_t *)a, ray) != RC_NO_OBJ; }

@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "../accel/embree.h"
+#include "../accel/peers/embree.h"
 #include "machine.h"
 #include "trace.h"
 #include "../prims/checked_alloc.h"
@@ -58,7 +58,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "accelbench-overhead: %s\n", err);
         return 2;
     }
-    const struct accel_ops *ops = accel_find("embree");
+    const struct accel_ops *ops = accel_find(ACCEL_REFERENCE);
     accel_params p;
     params_defaults(&p, ops->params);
     p.threads = 1;

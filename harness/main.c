@@ -52,10 +52,10 @@ static void list_accels(void)
         const struct accel_ops *a = accel_registry[i];
         printf("  %-14s %s\n", a->name, a->summary);
         printf("  %-14s paper: %s\n", "", a->paper);
-        if (a->flags & (ACCEL_MUTATES | ACCEL_SHADOW_ONLY | ACCEL_OPAQUE))
+        if (a->flags & (ACCEL_MUTATES | ACCEL_SHADOW_ONLY | ACCEL_NO_COUNTERS))
             printf("  %-14s flags:%s%s%s\n", "", a->flags & ACCEL_MUTATES ? " mutates-while-tracing(traced on 1 thread)" : "",
                    a->flags & ACCEL_SHADOW_ONLY ? " shadow-rays-only" : "",
-                   a->flags & ACCEL_OPAQUE ? " counters-not-observable" : "");
+                   a->flags & ACCEL_NO_COUNTERS ? " counters-not-observable" : "");
         /* A default this machine settles to another value (bvh's isa=auto) says which: that is what the CSV
          * records, and what the plots and report take as the default. */
         accel_params settled;

@@ -758,7 +758,7 @@ static void replay_ray(const scene_t *s, verifier_t *ver, const rayset_t *rs, ui
            term_text(s->name), rs->workload, (unsigned long long)rs->hash, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y,
            r->dir.z, r->tnear, r->tfar, r->light == RAY_NO_LIGHT ? -1 : (int)r->light);
     print_answer(j, accel_name, rs, got, i);
-    print_answer(j, "embree", rs, ref, i);
+    print_answer(j, ACCEL_REFERENCE, rs, ref, i);
     judge_hit e = judge_closest(j, r);
     if (e.prim == HIT_NONE) {
         printf("    %-12s miss (exact, every primitive)\n", "judge");

@@ -56,7 +56,7 @@ void warm_cell_release(warm_cell *w)
 static const char *timed_path_name(const accel *a, query_kind q)
 {
     if (trace_has_fast(a, q)) return "fast";
-    return (a->ops->flags & ACCEL_OPAQUE) ? "opaque" : "counting";
+    return (a->ops->flags & ACCEL_NO_COUNTERS) ? "opaque" : "counting";
 }
 
 /* The statistics read after the timed samples, with lazy_build_ms (the
@@ -76,7 +76,7 @@ static int row_frame(const cell_rays *c, const accel_config *ac, const cell_sett
     *r = (csv_row){
         .scene = c->scene->name, .prims = c->scene->prims.count, .accel = ac->ops->name, .params = ac->params_str,
         .workload = rs->workload, .rays = rs->count, .threads = threads, .seed = rs->seed, .rayset_hash = rs->hash,
-        .has_counters = !(ac->ops->flags & ACCEL_OPAQUE), .illposed_rays = c->illposed, .serial = threads != st->threads,
+        .has_counters = !(ac->ops->flags & ACCEL_NO_COUNTERS), .illposed_rays = c->illposed, .serial = threads != st->threads,
         .repeat = st->repeat, .git_rev = st->mi->git_rev, .machine = st->mi->host, .cpu = st->mi->cpu,
         .date = st->mi->date,
     };
@@ -158,7 +158,7 @@ void stats_format(const csv_row *row, char *buf, size_t len)
 
 accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen)
 {
-    const struct accel_ops *ops = accel_find("embree");
+    const struct accel_ops *ops = accel_find(ACCEL_REFERENCE);
     accel_params p;
     params_defaults(&p, ops->params);
     p.threads = threads;

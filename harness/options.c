@@ -263,7 +263,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     static char all_accels[1024];
     all_accels[0] = 0;
     for (int i = 0; accel_registry[i]; i++) {
-        if (!strcmp(cmd, "verify") && !strcmp(accel_registry[i]->name, "embree")) continue;
+        if (!strcmp(cmd, "verify") && !strcmp(accel_registry[i]->name, ACCEL_REFERENCE)) continue;
         if (all_accels[0]) strcat(all_accels, ",");
         strcat(all_accels, accel_registry[i]->name);
     }

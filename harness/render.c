@@ -90,7 +90,7 @@ static int render_image(const options *o, const scene_t *s, accel *a, accel *sha
     else if (!o->quiet) {
         printf("wrote %s: %ux%u, %u spp, %s through %s", o->out, prim->width, prim->height, prim->spp, s->name, a->ops->name);
         if (shadow != a) printf(" (shadow rays through %s)", shadow->ops->name);
-        if (!(a->ops->flags & ACCEL_OPAQUE) && !(shadow->ops->flags & ACCEL_OPAQUE))
+        if (!(a->ops->flags & ACCEL_NO_COUNTERS) && !(shadow->ops->flags & ACCEL_NO_COUNTERS))
             printf(", %.1f ray/primitive tests per pixel", (double)work.prim_tests / ((double)prim->width * prim->height));
         printf("\n");
     }
@@ -100,7 +100,7 @@ static int render_image(const options *o, const scene_t *s, accel *a, accel *sha
 
 static int render_heatmap(const options *o, const scene_t *s, accel *a, const rayset_t *prim)
 {
-    if (a->ops->flags & ACCEL_OPAQUE) {
+    if (a->ops->flags & ACCEL_NO_COUNTERS) {
         fprintf(stderr, "accelbench: --heatmap: %s does not expose its counters; choose another accelerator\n", a->ops->name);
         return 2;
     }

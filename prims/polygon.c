@@ -210,21 +210,11 @@ bool polygon_intersect_double(const vec3 *verts, const uint32_t *idx, uint32_t n
     return true;
 }
 
-static double point_segment_distance(dvec3 p, dvec3 a, dvec3 b)
-{
-    dvec3 ab = dv3_sub(b, a), ap = dv3_sub(p, a);
-    double len2 = dv3_dot(ab, ab);
-    double s = len2 > 0.0 ? dv3_dot(ap, ab) / len2 : 0.0;
-    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
-    dvec3 r = dv3_sub(p, dvec(a.x + ab.x * s, a.y + ab.y * s, a.z + ab.z * s));
-    return sqrt(dv3_dot(r, r));
-}
-
 double polygon_boundary_distance(const vec3 *verts, const uint32_t *idx, uint32_t n, dvec3 p)
 {
     double best = INFINITY;
     for (uint32_t i = 0, j = n - 1; i < n; j = i++)
-        best = fmin(best, point_segment_distance(p, dv3(verts[idx[j]]), dv3(verts[idx[i]])));
+        best = fmin(best, dv3_point_segment_distance(p, dv3(verts[idx[j]]), dv3(verts[idx[i]])));
     return best;
 }
 

@@ -188,7 +188,7 @@ bool prim_all_triangles(const prims_t *p, const uint32_t *ids, uint32_t n);
 void prim_tri_pack(const prims_t *p, const uint32_t *ids, uint32_t n, prim_tri_packet *out);
 /* Closest hit and any hit over the npk packets pk[0 .. npk) (the contract
  * of prim_intersect_leaf and prim_occluded_leaf), counting and not. Their
- * bodies are tri_packet_test.h's, for traversals that inline them. */
+ * bodies are tri_packet.h's, for traversals that inline them. */
 bool prim_intersect_tris(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray, hit_t *hit, counters_t *c);
 bool prim_occluded_tris(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray, counters_t *c);
 bool prim_intersect_tris_fast(const prim_tri_packet *pk, uint32_t npk, const ray_t *ray, hit_t *hit);

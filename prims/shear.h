@@ -68,7 +68,7 @@ static inline bool ray_shear(vec3 dir, shear_t *s)
     }
     /* Every field written even when the ray is refused (a division by 0
      * or of NaN is then harmless), so that a caller may keep s beside the
-     * answer (accel/bvh/wide_walk.h) without the compiler seeing fields
+     * answer (accel/bvh_wide/wide_walk.h) without the compiler seeing fields
      * that might be unset. */
     s->sx = v3_get(dir, s->kx) / dz;
     s->sy = v3_get(dir, s->ky) / dz;

@@ -1,8 +1,8 @@
 /* tri_packet.c: triangle packets (prims.h): triangles packed in SoA
  * groups of PRIM_TRI_LANES and tested together with one ray set-up.
  *
- * The tests' bodies are in tri_packet_test.h, which traversals may inline
- * (accel/bvh/wide_walk.h); here they are compiled once for prims.h's
+ * The tests' bodies are in tri_packet.h, which traversals may inline
+ * (accel/bvh_wide/wide_walk.h); here they are compiled once for prims.h's
  * entry points, each setting the ray's shear up per call. What the
  * packet saves is the per-triangle work around the test: the ray's shear
  * (three divisions), the kind dispatch, the loads through the primitive's
@@ -11,7 +11,7 @@
  * one body is compiled counting and counting-free (`counting` a constant). */
 #include "prims.h"
 #include "prims_internal.h"
-#include "tri_packet_test.h"
+#include "tri_packet.h"
 
 bool prim_all_triangles(const prims_t *p, const uint32_t *ids, uint32_t n)
 {

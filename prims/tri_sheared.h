@@ -33,7 +33,7 @@
  * The hit-or-miss decision is not changed: it stays the sheared edge
  * functions' signs (watertight); only the reported distance, and the
  * range test tnear <= t < tmax on it, use this. Every triangle path
- * (triangle_sheared_hit below, the packet tests of tri_packet_test.h,
+ * (triangle_sheared_hit below, the packet tests of tri_packet.h,
  * inlined under AVX2 and AVX-512 target attributes by the wide BVH) calls
  * this one function on the same floats, scalar and with contraction off
  * (shear.h), so they return the same t bit for bit. */

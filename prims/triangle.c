@@ -48,17 +48,6 @@ bool triangle_intersect(vec3 a, vec3 b, vec3 c, const ray_t *ray, float tmax, fl
 /* ---------------------------------------------------------------------- */
 /* Verification helpers, double precision                                  */
 
-static dvec3 dv3_make(double x, double y, double z)
-{
-    dvec3 r = {x, y, z};
-    return r;
-}
-
-static dvec3 dv3_madd(dvec3 a, dvec3 b, double s)
-{
-    return dv3_make(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
-}
-
 /* Moller-Trumbore in double: an algorithm independent of the float test,
  * so a shared mistake cannot make the two agree. Edges and vertices count
  * as inside (closed triangle), like the float test. */
@@ -84,21 +73,11 @@ bool triangle_intersect_double(vec3 a, vec3 b, vec3 c, const ray_t *ray, double 
 }
 
 /* Distance from p to the closed segment a-b (a point if a == b). */
-static double point_segment_distance(dvec3 p, dvec3 a, dvec3 b)
-{
-    dvec3 ab = dv3_sub(b, a), ap = dv3_sub(p, a);
-    double len2 = dv3_dot(ab, ab);
-    double s = len2 > 0.0 ? dv3_dot(ap, ab) / len2 : 0.0;
-    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
-    dvec3 r = dv3_sub(p, dv3_madd(a, ab, s));
-    return sqrt(dv3_dot(r, r));
-}
-
 double triangle_boundary_distance(vec3 a, vec3 b, vec3 c, dvec3 p)
 {
     dvec3 da = dv3(a), db = dv3(b), dc = dv3(c);
-    double dab = point_segment_distance(p, da, db);
-    double dbc = point_segment_distance(p, db, dc);
-    double dca = point_segment_distance(p, dc, da);
+    double dab = dv3_point_segment_distance(p, da, db);
+    double dbc = dv3_point_segment_distance(p, db, dc);
+    double dca = dv3_point_segment_distance(p, dc, da);
     return fmin(dab, fmin(dbc, dca));
 }

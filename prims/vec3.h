@@ -1,8 +1,9 @@
 /* vec3.h: the small 3-vector and box math every part of accelbench uses.
  *
  * Single precision, because that is what the accelerators and Embree trace
- * with; dvec3 (double) serves prims/'s double-precision checks and the
- * surface points that secondary rays leave from (surface.c). */
+ * with; dvec3 (double) serves prims/'s double-precision checks, the
+ * surface points that secondary rays leave from (surface.c) and the light
+ * buffer's projections and solid analysis (accel/lightbuf/). */
 #ifndef ACCELBENCH_VEC3_H
 #define ACCELBENCH_VEC3_H
 
@@ -41,9 +42,17 @@ static inline vec3 v3_norm(vec3 a)
  * sign differs; a box does not care). */
 static inline float f_min(float a, float b) { return b < a || a != a ? b : a; }
 static inline float f_max(float a, float b) { return b > a || a != a ? b : a; }
+/* The smaller (larger) operand by one comparison: the first when they
+ * compare equal or the second is a NaN (as fminf and fmaxf ignore a NaN
+ * there), a NaN first operand kept. The grid's and octree's box and
+ * clipping arithmetic, which never sees a NaN first operand. */
+static inline float f_min_keep(float a, float b) { return b < a ? b : a; }
+static inline float f_max_keep(float a, float b) { return b > a ? b : a; }
 static inline vec3 v3_min(vec3 a, vec3 b) { return v3(f_min(a.x, b.x), f_min(a.y, b.y), f_min(a.z, b.z)); }
 static inline vec3 v3_max(vec3 a, vec3 b) { return v3(f_max(a.x, b.x), f_max(a.y, b.y), f_max(a.z, b.z)); }
 static inline float v3_get(vec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+/* The largest |coordinate| (f_max_keep). */
+static inline float v3_max_abs(vec3 v) { return f_max_keep(fabsf(v.x), f_max_keep(fabsf(v.y), fabsf(v.z))); }
 static inline bool v3_finite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
 static inline dvec3 dv3(vec3 a) { dvec3 r = {a.x, a.y, a.z}; return r; }
@@ -53,6 +62,60 @@ static inline dvec3 dv3_cross(dvec3 a, dvec3 b)
 {
     dvec3 r = {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
     return r;
+}
+
+static inline dvec3 dv3_madd(dvec3 a, dvec3 b, double s)
+{
+    dvec3 r = {a.x + b.x * s, a.y + b.y * s, a.z + b.z * s};
+    return r;
+}
+static inline double dv3_len(dvec3 a) { return sqrt(dv3_dot(a, a)); }
+static inline double dv3_get(dvec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+static inline void dv3_set(dvec3 *a, int axis, double x) { *(axis == 0 ? &a->x : axis == 1 ? &a->y : &a->z) = x; }
+static inline dvec3 dv3_min(dvec3 a, dvec3 b)
+{
+    dvec3 r = {fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)};
+    return r;
+}
+static inline dvec3 dv3_max(dvec3 a, dvec3 b)
+{
+    dvec3 r = {fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)};
+    return r;
+}
+/* The distance from p to the segment ab (to a when a = b). */
+static inline double dv3_point_segment_distance(dvec3 p, dvec3 a, dvec3 b)
+{
+    dvec3 ab = dv3_sub(b, a), ap = dv3_sub(p, a);
+    double len2 = dv3_dot(ab, ab);
+    double s = len2 > 0.0 ? dv3_dot(ap, ab) / len2 : 0.0;
+    s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+    return dv3_len(dv3_sub(p, dv3_madd(a, ab, s)));
+}
+
+/* Distance from point q to triangle abc (Ericson, Real-Time Collision
+ * Detection s5.1.5's regions, in double). */
+static inline double dv3_point_triangle_distance(dvec3 q, dvec3 a, dvec3 b, dvec3 c)
+{
+    dvec3 ab = dv3_sub(b, a), ac = dv3_sub(c, a), ap = dv3_sub(q, a);
+    double d1 = dv3_dot(ab, ap), d2 = dv3_dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return dv3_len(ap);
+    dvec3 bp = dv3_sub(q, b);
+    double d3 = dv3_dot(ab, bp), d4 = dv3_dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return dv3_len(bp);
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return dv3_len(dv3_sub(q, dv3_madd(a, ab, d1 / (d1 - d3))));
+    dvec3 cp = dv3_sub(q, c);
+    double d5 = dv3_dot(ab, cp), d6 = dv3_dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return dv3_len(cp);
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return dv3_len(dv3_sub(q, dv3_madd(a, ac, d2 / (d2 - d6))));
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+        return dv3_len(dv3_sub(q, dv3_madd(b, dv3_sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+    double den = va + vb + vc;
+    if (!(den > 0)) return fmin(fmin(dv3_len(ap), dv3_len(bp)), dv3_len(cp)); /* degenerate: never asked, safe anyway */
+    dvec3 x = dv3_madd(dv3_madd(a, ab, vb / den), ac, vc / den);
+    return dv3_len(dv3_sub(q, x));
 }
 
 static inline box3 box_empty(void)

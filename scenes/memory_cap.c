@@ -178,6 +178,12 @@ const char *memory_cap_source(void)
     return cap_state.source;
 }
 
+size_t memory_refusal_what(char *err, size_t errlen, const char *what_fmt, va_list ap)
+{
+    int n = vsnprintf(err, errlen, what_fmt, ap);
+    return n < 0 ? 0 : (size_t)n < errlen ? (size_t)n : errlen - 1;
+}
+
 bool memory_cap_exceeded(uint64_t bytes, char *err, size_t errlen, const char *what_fmt, ...)
 {
     uint64_t cap = memory_cap_bytes();
@@ -185,9 +191,8 @@ bool memory_cap_exceeded(uint64_t bytes, char *err, size_t errlen, const char *w
     if (!errlen) return true;
     va_list ap;
     va_start(ap, what_fmt);
-    int n = vsnprintf(err, errlen, what_fmt, ap);
+    size_t used = memory_refusal_what(err, errlen, what_fmt, ap);
     va_end(ap);
-    size_t used = n < 0 ? 0 : (size_t)n < errlen ? (size_t)n : errlen - 1;
     char need[64];
     if (bytes == UINT64_MAX) snprintf(need, sizeof need, "more than 2^64 bytes");
     else snprintf(need, sizeof need, "%llu bytes (%.1f MiB)", (unsigned long long)bytes, (double)bytes / MIB);
@@ -201,9 +206,8 @@ void memory_cap_stopped(char *err, size_t errlen, const char *what_fmt, ...)
     if (!errlen) return;
     va_list ap;
     va_start(ap, what_fmt);
-    int n = vsnprintf(err, errlen, what_fmt, ap);
+    size_t used = memory_refusal_what(err, errlen, what_fmt, ap);
     va_end(ap);
-    size_t used = n < 0 ? 0 : (size_t)n < errlen ? (size_t)n : errlen - 1;
     snprintf(err + used, errlen - used, ": stopped by the memory cap of %llu MiB (%s); raise it with --memcap MIB",
              (unsigned long long)memory_cap_mib(), memory_cap_source());
 }

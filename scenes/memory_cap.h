@@ -28,6 +28,7 @@
 #ifndef ACCELBENCH_MEMORY_CAP_H
 #define ACCELBENCH_MEMORY_CAP_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -99,6 +100,12 @@ bool memory_cap_exceeded(uint64_t bytes, char *err, size_t errlen, const char *w
  * out of memory under it): "WHAT: stopped by the memory cap of C MiB
  * (SOURCE); raise it with --memcap MIB" (WHAT from the format). */
 void memory_cap_stopped(char *err, size_t errlen, const char *what_fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* The WHAT of a refusal: what_fmt formatted into err (cut to fit);
+ * returns the length written, where the caller appends its reason. Every
+ * refusal of a cap (this one and the accelerators' memcap,
+ * accel/common/memcap.h) is WHAT and a reason on one line. */
+size_t memory_refusal_what(char *err, size_t errlen, const char *what_fmt, va_list ap);
 
 /* Saturating arithmetic for estimates: an absurd request stays absurd
  * instead of wrapping to a small number. */

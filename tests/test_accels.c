@@ -471,7 +471,7 @@ int main(void)
                 accel *a = test_build_with(ops, ss->s, settings[k], 2, err, sizeof err);
                 CHECK_MSG(a != NULL, "%s on %s: build failed: %s", label, ss->s->name, err);
                 if (!a) continue;
-                subject sub = {label, a, !(ops->flags & ACCEL_OPAQUE)};
+                subject sub = {label, a, !(ops->flags & ACCEL_NO_COUNTERS)};
                 if (si == 0) check_interface(&sub);
                 for (int r = 0; r < ss->nsets; r++) check_set(ss->s, &sub, ss->ref, ss->sets[r]);
                 a->ops->destroy(a);

@@ -1,5 +1,5 @@
-/* test_bsp: the BSP tree `bsp` (accel/bsp_kaplan_jansen.c, its kd-tree kit
- * accel/common/kd_*.c and prims/clip.c), beyond the conformance suite.
+/* test_bsp: the BSP tree `bsp` (accel/bsp/bsp_kaplan_jansen.c, its kd-tree kit
+ * accel/bsp/kd_*.c and prims/clip.c), beyond the conformance suite.
  *
  *   in-plane    rays lying exactly in split planes of built trees (every
  *               traversal, every builder): the same answer as exhaustive,
@@ -14,7 +14,7 @@
  *   clip        prim_clip_bounds on hand-made triangles and a sphere
  *   mailbox     on and off give the same answers; on skips re-tests */
 #include <string.h>
-#include "accel/bsp_kaplan_jansen.h"
+#include "accel/bsp/bsp_kaplan_jansen.h"
 #include "testlib.h"
 
 static const char *const travs[] = {"recursive", "sequential", "havran"};

@@ -1,6 +1,6 @@
 /* test_bvh_gs: Goldsmith and Salmon's hierarchy, `bvh-gs`
- * (accel/bvh_goldsmith_salmon.c on the n-ary kit accel/bvh/nary.h and
- * accel/bvh/build_gs.c), beyond the conformance suite.
+ * (accel/bvh_gs/bvh_goldsmith_salmon.c on the n-ary kit accel/bvh_gs/nary.h and
+ * accel/bvh_gs/build_gs.c), beyond the conformance suite.
  *
  *   eq3         a hand-built tree of three boxes (a root over two boxes
  *               and a primitive, two primitives in each box): eq. (3)
@@ -28,7 +28,7 @@
  *               refusals (shuffles without order=shuffle, maxchildren=1,
  *               memcap) name the parameter */
 #include <string.h>
-#include "accel/bvh/build_gs.h"
+#include "accel/bvh_gs/build_gs.h"
 #include "accel/common/shuffle.h"
 #include "testlib.h"
 #define PRIMS_TEST_SEED 0x65e1

@@ -1,5 +1,5 @@
-/* test_champion: the wide SIMD BVH `bvh` (accel/bvh_champion.c,
- * accel/bvh/wide*.{h,c}, collapse.c) beyond the conformance suite.
+/* test_champion: the wide SIMD BVH `bvh` (accel/bvh_wide/bvh_wide.c,
+ * accel/bvh_wide/wide*.{h,c}, collapse.c) beyond the conformance suite.
  *
  *   simd        every instruction set this CPU has, at width 2, 4 and 8,
  *               with fma=off and (but SSE4.2) fma=on, against the scalar
@@ -62,7 +62,7 @@
  *               off under split=sbvh */
 #include <math.h>
 #include <string.h>
-#include "accel/bvh_champion.h"
+#include "accel/bvh_wide/bvh_wide.h"
 #include "../prims/prims_internal.h" /* float_down, float_up */
 #include "testlib.h"
 
@@ -79,7 +79,7 @@ static accel *champ_with(const scene_t *s, const char *cfg)
 
 static void check_tree(const accel *a, const char *label)
 {
-    const wide_bvh *w = bvh_champion_tree(a, NULL);
+    const wide_bvh *w = bvh_wide_tree(a, NULL);
     const prims_t *p = &a->scene->prims;
     char err[256] = "";
     int rc = wide_check(w, p->bounds, p->count, err, sizeof err);
@@ -198,7 +198,7 @@ static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char 
                 snprintf(cfg, sizeof cfg, "width=%d,isa=%s,fma=%s%s", width, wide_isa_names[isa], fma, extra);
                 accel *a = champ_with(s, cfg);
                 wide_isa got;
-                bvh_champion_tree(a, &got);
+                bvh_wide_tree(a, &got);
                 wide_isa want = width == 2 ? WIDE_ISA_SSE42 : (wide_isa)isa; /* BVH2: one SSE4.2 kernel for all */
                 CHECK_MSG(got == want, "%s: kernels of %s", cfg, wide_isa_names[got]);
                 int before = check_failed;
@@ -308,7 +308,7 @@ static void test_single(void)
         char cfg[64];
         snprintf(cfg, sizeof cfg, w == 16 ? "compress=on" : "width=%d", w); /* 16: the quantised BVH8 */
         accel *x = champ_with(s, cfg);
-        const wide_bvh *t = bvh_champion_tree(x, NULL);
+        const wide_bvh *t = bvh_wide_tree(x, NULL);
         CHECK(t->nnodes == 1 && t->nleaves == 1 && t->nchildren == 1 && t->max_depth == 1);
         accel_ctx *ctx = x->ops->context_new(x);
         ray_t r = {v3(0.25f, 0.25f, 1), 0, v3(0, 0, -1), INFINITY, RAY_NO_LIGHT, 0};
@@ -385,7 +385,7 @@ static void test_one_point(void)
     const char *cfgs[] = {"", "width=4,leafsize=1", "leafsize=32,bins=2"};
     for (int k = 0; k < 3; k++) {
         accel *a = champ_with(s, cfgs[k]);
-        const wide_bvh *t = bvh_champion_tree(a, NULL);
+        const wide_bvh *t = bvh_wide_tree(a, NULL);
         CHECK_MSG(t->max_depth <= 16, "[%s] depth %u over 4000 primitives at one point", cfgs[k], t->max_depth);
         a->ops->destroy(a);
         against_exhaustive(s, cfgs[k], 12, false);
@@ -471,7 +471,7 @@ static void test_threads(void)
             accel *more = test_build_with(accel_find("bvh"), scenes[i], cfg, threads, err, sizeof err);
             CHECK_MSG(more != NULL, "%s: %s", scenes[i]->name, err);
             if (!more) continue;
-            CHECK_MSG(same_tree(bvh_champion_tree(one, NULL), bvh_champion_tree(more, NULL)),
+            CHECK_MSG(same_tree(bvh_wide_tree(one, NULL), bvh_wide_tree(more, NULL)),
                       "%s: the tree built on %d threads differs from the one on 1", scenes[i]->name, threads);
             check_tree(more, "threads");
             more->ops->destroy(more);
@@ -529,7 +529,7 @@ static void test_refusals(void)
     CHECK(!strcmp(params_get(&p, "isa"), wide_isa_names[wide_isa_best()]));
     accel *a = champ_with(s, "");
     wide_isa got;
-    bvh_champion_tree(a, &got);
+    bvh_wide_tree(a, &got);
     CHECK(got == wide_isa_best());
     a->ops->destroy(a);
     printf("isa=auto settles to %s\n", params_get(&p, "isa"));
@@ -541,7 +541,7 @@ static void test_refusals(void)
         accel_settle_params(accel_find("bvh"), &p);
         CHECK_MSG(!strcmp(params_get(&p, "isa"), "sse42"), "width=2 settles isa to %s", params_get(&p, "isa"));
         a = champ_with(s, "width=2");
-        bvh_champion_tree(a, &got);
+        bvh_wide_tree(a, &got);
         CHECK(got == WIDE_ISA_SSE42);
         a->ops->destroy(a);
     }
@@ -581,7 +581,7 @@ static void test_octant(void)
     scene_t *s = test_scene("bunny");
     against_exhaustive(s, "order=octant", 24, true);
     accel *a = champ_with(s, "order=octant,width=8");
-    wide_bvh *w = (wide_bvh *)bvh_champion_tree(a, NULL);
+    wide_bvh *w = (wide_bvh *)bvh_wide_tree(a, NULL);
     const prims_t *p = &s->prims;
     char err[256];
     uint32_t *order = (uint32_t *)((char *)w->nodes + WIDE_ORDER_OFFSET(8)), keep = order[1];
@@ -619,7 +619,7 @@ static void test_embree_rules(void)
     against_exhaustive(s, "tree=embree", 24, true);
     against_exhaustive(s, rules, 24, true);
     accel *e = champ_with(s, "tree=embree"), *a = champ_with(s, rules), *plain = champ_with(s, "minleaf=4,travcost=4");
-    const wide_bvh *we = bvh_champion_tree(e, NULL), *wa = bvh_champion_tree(a, NULL), *wp = bvh_champion_tree(plain, NULL);
+    const wide_bvh *we = bvh_wide_tree(e, NULL), *wa = bvh_wide_tree(a, NULL), *wp = bvh_wide_tree(plain, NULL);
     CHECK_MSG(fabs((double)wa->nnodes / we->nnodes - 1.0) < 0.02 && fabs((double)wa->nleaves / we->nleaves - 1.0) < 0.02,
               "Embree's rules: %u nodes, %u leaves; Embree's tree %u, %u", wa->nnodes, wa->nleaves, we->nnodes,
               we->nleaves);
@@ -745,7 +745,7 @@ static int quantize_boxes(const box3 *box, uint32_t n, char *err, size_t errlen)
     return rc;
 }
 
-/* compress=on (accel/bvh/wide_quantize.c): decoded boxes contain the
+/* compress=on (accel/bvh_wide/wide_quantize.c): decoded boxes contain the
  * exact ones and stay within a step of them, on random boxes at every
  * scale from 1e-30 to 1e37, on boxes of zero extent and on one node of
  * the 10^6-triangle grid; a node wider than the largest scale reaches is
@@ -783,7 +783,7 @@ static void test_compress(void)
     against_exhaustive(s, "compress=on", 24, true);
     against_exhaustive(s, "compress=on,split=sbvh,order=octant", 16, true);
     accel *off = champ_with(s, ""), *on = champ_with(s, "compress=on");
-    const wide_bvh *woff = bvh_champion_tree(off, NULL), *won = bvh_champion_tree(on, NULL);
+    const wide_bvh *woff = bvh_wide_tree(off, NULL), *won = bvh_wide_tree(on, NULL);
     CHECK(won->quantized && !woff->quantized && won->nnodes == woff->nnodes);
     CHECK_MSG(off->ops->memory(off) - on->ops->memory(on) == (size_t)woff->nnodes * 128,
               "memory %zu against %zu over %u nodes", on->ops->memory(on), off->ops->memory(off), woff->nnodes);

@@ -1,10 +1,10 @@
-/* test_heap: the kit's distance heap (accel/common/heap.h): entries come
+/* test_heap: the kit's distance heap (accel/bvh/heap.h): entries come
  * out in non-decreasing key order with their values, interleaved pushes
  * and pops keep the order, it grows from capacity 0, and clear empties it
  * while keeping the memory. Checked against a sorted reference on random
  * keys with many ties. */
 #include <stdlib.h>
-#include "accel/common/heap.h"
+#include "accel/bvh/heap.h"
 #include "check.h"
 #define PRIMS_TEST_SEED 0x4ea9
 #include "prims_testlib.h"

@@ -1,5 +1,5 @@
 /* test_lightbuf: Haines and Greenberg's light buffer `lightbuf`
- * (accel/lightbuf_haines_greenberg.c), beyond the conformance suite.
+ * (accel/lightbuf/lightbuf_haines_greenberg.c), beyond the conformance suite.
  *
  *   fullocc      a polygon covering every cell of a face gives each a
  *                full-occlusion record at its farthest depth; what lies
@@ -34,7 +34,7 @@
  *   refusals     memcap, res out of range, a bad switch value */
 #include <string.h>
 #include "accel/common/dircube.h"
-#include "accel/lightbuf_haines_greenberg.h"
+#include "accel/lightbuf/lightbuf_haines_greenberg.h"
 #include "testlib.h"
 
 static uint32_t rng = 777;

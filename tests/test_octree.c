@@ -1,4 +1,4 @@
-/* test_octree: Glassner's octree (accel/octree_glassner.c) beyond the
+/* test_octree: Glassner's octree (accel/octree/octree_glassner.c) beyond the
  * conformance suite.
  *
  * - Names and hashing on a hand-built case: three small triangles whose
@@ -6,7 +6,7 @@
  *   18 interior, leaves 11, 181, 188, every other name absent (an empty
  *   voxel); each stored name sits in bucket name mod size (a prime at
  *   least the names), point location returns the expected names, and the
- *   table's statistics are consistent. The kit's hash_mod table on its
+ *   table's statistics are consistent. The octree's hash_mod table on its
  *   own: buckets of 96-bit keys, the incremental bucket, lookups of present
  *   and absent keys, refusals (key 0, a key twice, a bad size).
  * - Names past 64 bits: a dense cluster at maxdepth 20 reaches depth 20,
@@ -25,9 +25,9 @@
  *   its memcap, each with a one-line reason naming the parameter.
  * - No fallback of either walk on the SPD sphereflake's five workloads. */
 #include <string.h>
-#include "accel/common/hash.h"
+#include "accel/octree/hash_mod.h"
 #include "accel/common/slab.h"
-#include "accel/octree_glassner.h"
+#include "accel/octree/octree_glassner.h"
 #include "testlib.h"
 
 typedef unsigned __int128 u128;

@@ -1,6 +1,6 @@
 /* test_slabs_kk: Kay and Kajiya's slab hierarchy `slabs-kk`
- * (accel/slabs_kay_kajiya.c) and its plane-set volume test
- * (accel/common/planeset.h), beyond the conformance suite.
+ * (accel/slabs_kk/slabs_kay_kajiya.c) and its plane-set volume test
+ * (accel/slabs_kk/planeset.h), beyond the conformance suite.
  *
  *   parallel    rays parallel to slabs, +0 and -0 components, on an axis and
  *               on a diagonal: inside or outside by N . O alone, exactly
@@ -24,7 +24,7 @@
  *               out of key order (the check can fail)
  *   refusals    bad parameter values name the parameter */
 #include <string.h>
-#include "accel/slabs_kay_kajiya.h"
+#include "accel/slabs_kk/slabs_kay_kajiya.h"
 #include "testlib.h"
 
 /* A small deterministic generator (the tests must not depend on libc's). */

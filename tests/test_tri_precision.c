@@ -23,7 +23,7 @@
  *               origin, so no hit; with tnear below it, t is the plane's. */
 #include <math.h>
 #include <string.h>
-#include "accel/bvh_champion.h"
+#include "accel/bvh_wide/bvh_wide.h"
 #include "../prims/prims_internal.h"
 #include "testlib.h"
 

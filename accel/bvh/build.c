@@ -303,3 +303,33 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
     free(owned);
     return bvh_finish(b);
 }
+
+/* bvh_bin_chunked (build.h). */
+typedef struct {
+    const uint32_t *ids;
+    uint32_t n;
+    size_t size;
+    void (*bin)(const void *ctx, const uint32_t *ids, uint32_t n, void *out);
+    const void *ctx;
+    char *blocks;
+} bin_chunks;
+
+static void bin_chunk(void *arg, uint32_t i)
+{
+    const bin_chunks *ch = arg;
+    uint32_t begin = (uint32_t)((uint64_t)ch->n * i / BVH_BIN_CHUNKS);
+    uint32_t end = (uint32_t)((uint64_t)ch->n * (i + 1) / BVH_BIN_CHUNKS);
+    ch->bin(ch->ctx, ch->ids + begin, end - begin, ch->blocks + (size_t)i * ch->size);
+}
+
+void *bvh_bin_chunked(const uint32_t *ids, uint32_t n, uint32_t threads, size_t size,
+                      void (*bin)(const void *ctx, const uint32_t *ids, uint32_t n, void *out),
+                      void (*merge)(const void *ctx, void *into, const void *from), const void *ctx)
+{
+    char *blocks = malloc(BVH_BIN_CHUNKS * size);
+    if (!blocks) return NULL;
+    bin_chunks job = {ids, n, size, bin, ctx, blocks};
+    bvh_parallel_for(BVH_BIN_CHUNKS, threads, bin_chunk, &job);
+    for (uint32_t i = 1; i < BVH_BIN_CHUNKS; i++) merge(ctx, blocks, blocks + (size_t)i * size);
+    return blocks;
+}

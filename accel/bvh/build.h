@@ -55,6 +55,18 @@ bvh_config bvh_top_config(const bvh_config *c, uint32_t grain);
  * own results. */
 void bvh_parallel_for(uint32_t count, uint32_t threads, void (*job)(void *ctx, uint32_t i), void *ctx);
 
+/* A large node's binning on the threads: ids[0 .. n) cut into
+ * BVH_BIN_CHUNKS parts (a constant, not the thread count, though any cut
+ * gives the same bins), part i binned by bin(ctx, part, its length, the
+ * i-th of BVH_BIN_CHUNKS blocks of size bytes), then merge(ctx, block 0,
+ * block i) for i = 1, 2, ... in that order, so the result is the same for
+ * every thread count. Returns the blocks (block 0 holds the bins; the
+ * caller frees them), or NULL out of memory (the caller bins alone). */
+#define BVH_BIN_CHUNKS 8
+void *bvh_bin_chunked(const uint32_t *ids, uint32_t n, uint32_t threads, size_t size,
+                      void (*bin)(const void *ctx, const uint32_t *ids, uint32_t n, void *out),
+                      void (*merge)(const void *ctx, void *into, const void *from), const void *ctx);
+
 /* n primitives as a leaf's tests pay for them: whole blocks of block
  * (the SAH's leaf_block; the collapse's merge rule, collapse.c). */
 static inline double bvh_leaf_blocks(uint32_t n, uint32_t block) { return (double)((n + block - 1) / block * block); }

@@ -89,25 +89,29 @@ static void sah_bin(const sah_binning *bm, const uint32_t *ids, uint32_t n, cons
     }
 }
 
-/* A large node's binning on the threads: ids cut into SAH_BIN_CHUNKS parts
- * (a constant, not the thread count, though any cut gives the same bins),
- * each binned on its own, merged after. */
-#define SAH_BIN_CHUNKS 8
+/* bvh_bin_chunked's two steps over sah_bin's bins. */
 typedef struct {
     const sah_binning *bm;
-    const uint32_t *ids;
-    uint32_t n;
     const box3 *boxes;
     const vec3 *centroids;
-    bin_t (*bins)[3][SAH_MAX_BINS]; /* [SAH_BIN_CHUNKS] */
 } sah_chunks;
 
-static void sah_chunk(void *arg, uint32_t i)
+static void sah_chunk(const void *arg, const uint32_t *ids, uint32_t n, void *out)
 {
     const sah_chunks *ch = arg;
-    uint32_t begin = (uint32_t)((uint64_t)ch->n * i / SAH_BIN_CHUNKS);
-    uint32_t end = (uint32_t)((uint64_t)ch->n * (i + 1) / SAH_BIN_CHUNKS);
-    sah_bin(ch->bm, ch->ids + begin, end - begin, ch->boxes, ch->centroids, ch->bins[i]);
+    sah_bin(ch->bm, ids, n, ch->boxes, ch->centroids, out);
+}
+
+static void sah_merge(const void *arg, void *into_, const void *from_)
+{
+    const sah_chunks *ch = arg;
+    bin_t (*into)[SAH_MAX_BINS] = into_;
+    const bin_t (*from)[SAH_MAX_BINS] = from_;
+    for (int axis = 0; axis < 3; axis++)
+        for (uint32_t k = 0; k < ch->bm->nb; k++) {
+            into[axis][k].box = box4_union(into[axis][k].box, from[axis][k].box);
+            into[axis][k].count += from[axis][k].count;
+        }
 }
 
 bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box3 *boxes, const vec3 *centroids,
@@ -129,15 +133,9 @@ bvh_sah_choice bvh_sah_best(const uint32_t *ids, uint32_t n, box3 box, const box
     /* Chunked whenever the driver asks, on any number of threads, so the
      * order of the unions (which may decide the sign of a zero in the
      * sides' boxes) is the same for every count. */
-    if (cfg->parallel_from && n > cfg->parallel_from && (chunk = malloc(SAH_BIN_CHUNKS * sizeof *chunk))) {
-        sah_chunks job = {&bm, ids, n, boxes, centroids, chunk};
-        bvh_parallel_for(SAH_BIN_CHUNKS, cfg->threads, sah_chunk, &job);
-        for (uint32_t i = 1; i < SAH_BIN_CHUNKS; i++)
-            for (int axis = 0; axis < 3; axis++)
-                for (uint32_t k = 0; k < nb; k++) {
-                    chunk[0][axis][k].box = box4_union(chunk[0][axis][k].box, chunk[i][axis][k].box);
-                    chunk[0][axis][k].count += chunk[i][axis][k].count;
-                }
+    sah_chunks job = {&bm, boxes, centroids};
+    if (cfg->parallel_from && n > cfg->parallel_from &&
+        (chunk = bvh_bin_chunked(ids, n, cfg->threads, sizeof *chunk, sah_chunk, sah_merge, &job))) {
         bins = chunk[0];
     } else {
         sah_bin(&bm, ids, n, boxes, centroids, local);

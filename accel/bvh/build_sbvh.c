@@ -53,7 +53,7 @@
  * into a tree of its own, trimmed, and the trees are stitched into the
  * output in the order the top deferred them. A top node of more than
  * max(grain, BVH_PARALLEL_BINS) references bins its object and spatial
- * splits in SBVH_BIN_CHUNKS chunks of its references on the threads,
+ * splits in BVH_BIN_CHUNKS chunks of its references on the threads,
  * merged in chunk order (the chunks are the same on every thread count).
  * So the tree, node numbers included, is the same for every count >= 1;
  * threads 0 may differ from it (one budget for the whole tree).
@@ -179,35 +179,31 @@ static void spatial_bin(const refs_t *r, const uint32_t *ids, uint32_t n, box3 b
     }
 }
 
-static void spatial_merge(sbin_t into[3][SBVH_MAX_BINS], sbin_t from[3][SBVH_MAX_BINS], uint32_t nb)
+/* bvh_bin_chunked's two steps over spatial_bin's bins. */
+typedef struct {
+    const refs_t *r;
+    uint32_t nb;
+    box3 box;
+    const bvh_sbvh_config *s;
+} spatial_chunks;
+
+static void spatial_chunk(const void *arg, const uint32_t *ids, uint32_t n, void *out)
 {
+    const spatial_chunks *ch = arg;
+    spatial_bin(ch->r, ids, n, ch->box, ch->nb, ch->s, out);
+}
+
+static void spatial_merge(const void *arg, void *into_, const void *from_)
+{
+    const spatial_chunks *ch = arg;
+    sbin_t (*into)[SBVH_MAX_BINS] = into_;
+    const sbin_t (*from)[SBVH_MAX_BINS] = from_;
     for (int axis = 0; axis < 3; axis++)
-        for (uint32_t k = 0; k < nb; k++) {
+        for (uint32_t k = 0; k < ch->nb; k++) {
             into[axis][k].box = box4_union(into[axis][k].box, from[axis][k].box);
             into[axis][k].entry += from[axis][k].entry;
             into[axis][k].exit += from[axis][k].exit;
         }
-}
-
-/* A large node's binning in parallel: ids cut into SBVH_BIN_CHUNKS parts
- * (a constant, not the thread count, though any cut gives the same bins),
- * each binned on its own, merged after. */
-#define SBVH_BIN_CHUNKS 8
-typedef struct {
-    const refs_t *r;
-    const uint32_t *ids;
-    uint32_t n, nb;
-    box3 box;
-    const bvh_sbvh_config *s;
-    sbin_t (*bins)[3][SBVH_MAX_BINS]; /* [SBVH_BIN_CHUNKS] */
-} spatial_chunks;
-
-static void spatial_chunk(void *arg, uint32_t i)
-{
-    const spatial_chunks *ch = arg;
-    uint32_t begin = (uint32_t)((uint64_t)ch->n * i / SBVH_BIN_CHUNKS);
-    uint32_t end = (uint32_t)((uint64_t)ch->n * (i + 1) / SBVH_BIN_CHUNKS);
-    spatial_bin(ch->r, ch->ids + begin, end - begin, ch->box, ch->nb, ch->s, ch->bins[i]);
 }
 
 /* The cheapest spatial split of ids[0 .. n) (a node with box `box`): its
@@ -221,10 +217,9 @@ static spatial_choice spatial_best(const refs_t *r, const uint32_t *ids, uint32_
     const double area = box_area(box);
     sbin_t (*chunk)[3][SBVH_MAX_BINS] = NULL;
     sbin_t local[3][SBVH_MAX_BINS], (*bins)[SBVH_MAX_BINS] = local;
-    if (c->parallel_from && n > c->parallel_from && (chunk = malloc(SBVH_BIN_CHUNKS * sizeof *chunk))) {
-        spatial_chunks ch = {r, ids, n, nb, box, s, chunk};
-        bvh_parallel_for(SBVH_BIN_CHUNKS, c->threads, spatial_chunk, &ch);
-        for (uint32_t i = 1; i < SBVH_BIN_CHUNKS; i++) spatial_merge(chunk[0], chunk[i], nb);
+    spatial_chunks ch = {r, nb, box, s};
+    if (c->parallel_from && n > c->parallel_from &&
+        (chunk = bvh_bin_chunked(ids, n, c->threads, sizeof *chunk, spatial_chunk, spatial_merge, &ch))) {
         bins = chunk[0];
     } else {
         spatial_bin(r, ids, n, box, nb, s, local);

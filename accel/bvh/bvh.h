@@ -27,7 +27,7 @@
  * Each comes as intersect and occluded, counting and counting-free (_fast):
  * traverse.c compiles the walks of walk.h over these nodes, the walks that
  * other layouts share through their own volume test (Kay-Kajiya's
- * plane-set nodes, accel/slabs_kay_kajiya.c).
+ * plane-set nodes, accel/slabs_kk/slabs_kay_kajiya.c).
  *
  * Memory layout:
  *   nodes[nnodes]  bvh_node, 32 bytes: box (24), index (4), count (4).
@@ -58,7 +58,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 #include "../accel.h"
-#include "../common/heap.h"
+#include "heap.h"
 #include "../common/stack.h"
 
 #ifdef __cplusplus

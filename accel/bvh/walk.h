@@ -5,11 +5,11 @@
  * index + 1) or a leaf of the primitives refs[index .. index + count) is
  * walked the same way whatever its volumes are: the kit's boxes
  * (traverse.c, slab_clip_robust) or Kay and Kajiya's plane-set volumes
- * (accel/slabs_kay_kajiya.c, planeset_clip). The layout gives two
+ * (accel/slabs_kk/slabs_kay_kajiya.c, planeset_clip). The layout gives two
  * callbacks, the volume test of a node and its index and count; the walks
  * are always inlined and the callbacks are constants at every call site, so
  * each use compiles to a walk specialised to its layout, with no indirect
- * call left (as accel/common/prim_test.h does for counting).
+ * call left (as accel/common/prim_hit.h does for counting).
  *
  *   bvh_walk_dfs   depth-first, the nearer child first, the farther one
  *                  stacked with its entry distance and dropped on pop when a

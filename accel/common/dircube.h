@@ -1,7 +1,7 @@
 /* dircube.h: the direction cube of the survey (Arvo and Kirk 1989, s6.1,
  * figure 19): a 3-D direction to one of six faces and u-v coordinates on
  * it, shared by the directional techniques (the light buffer,
- * accel/lightbuf_haines_greenberg.c; ray classification).
+ * accel/lightbuf/lightbuf_haines_greenberg.c; ray classification).
  *
  * Faces are numbered 0..5 for +x, -x, +y, -y, +z, -z (face = 2 axis +
  * (component < 0)). On each face, U and V are the other two world axes in

@@ -10,9 +10,8 @@ bool memcap_exceeded(uint64_t bytes, uint64_t cap_mib, char *err, size_t errlen,
     if (!errlen) return true;
     va_list ap;
     va_start(ap, what_fmt);
-    int n = vsnprintf(err, errlen, what_fmt, ap);
+    size_t used = memory_refusal_what(err, errlen, what_fmt, ap);
     va_end(ap);
-    size_t used = n < 0 ? 0 : (size_t)n < errlen ? (size_t)n : errlen - 1;
     snprintf(err + used, errlen - used, " need %.1f MiB, over memcap=%llu MiB", (double)bytes / 1048576.0,
              (unsigned long long)cap_mib);
     return true;

@@ -5,22 +5,25 @@
  * them and checks the estimate against its memcap parameter (MiB), so a bad
  * setting fails at once with a reason instead of swapping or being killed.
  * The reason is one line, "WHAT need N.N MiB, over memcap=M MiB", where
- * WHAT is the caller's description (printf format). */
+ * WHAT is the caller's description (printf format), written as the process
+ * cap's refusals write theirs (scenes/memory_cap.h memory_refusal_what). */
 #ifndef ACCELBENCH_MEMCAP_H
 #define ACCELBENCH_MEMCAP_H
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include "../../scenes/memory_cap.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /* The estimates are sums of products of counts and sizes; these saturate
- * at UINT64_MAX instead of wrapping, so an absurd setting stays absurd. */
-static inline uint64_t memcap_add(uint64_t a, uint64_t b) { return a > UINT64_MAX - b ? UINT64_MAX : a + b; }
-static inline uint64_t memcap_mul(uint64_t n, uint64_t size) { return size && n > UINT64_MAX / size ? UINT64_MAX : n * size; }
+ * at UINT64_MAX instead of wrapping, so an absurd setting stays absurd
+ * (the process cap's arithmetic, scenes/memory_cap.h). */
+static inline uint64_t memcap_add(uint64_t a, uint64_t b) { return memory_add(a, b); }
+static inline uint64_t memcap_mul(uint64_t n, uint64_t size) { return memory_mul(n, size); }
 
 /* true when bytes exceed cap_mib MiB: then err holds the reason (WHAT from
  * the format). false (within the cap): err is untouched. */

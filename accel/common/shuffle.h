@@ -1,6 +1,6 @@
 /* shuffle.h: seeded pseudo-random insertion orders for the builders whose
  * trees depend on the order they see their primitives in (Goldsmith and
- * Salmon's insertion, accel/bvh/build_insert.c and accel/bvh/build_gs.c).
+ * Salmon's insertion, accel/bvh/build_insert.c and accel/bvh_gs/build_gs.c).
  *
  * The generator is splitmix64 (Steele, Lea, Flood, "Fast Splittable
  * Pseudorandom Number Generators", OOPSLA 2014): any 64-bit seed, 0
