@@ -1,18 +1,18 @@
 /* test_measure.c: the measuring kit of run and reproduce: the trace paths
  * (trace.c), paired timing with resets and lazy build times (timing.c),
  * the CSV's fixed columns (csv.c), a paper's figures file (figures.c) and
- * report Markdown (report.c). A fake accelerator counts what the harness
+ * report Markdown (markdown.c). A fake accelerator counts what the harness
  * calls, so the tests check the calls, not timings. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
-#include "harness/csv.h"
-#include "harness/figures.h"
-#include "harness/report.h"
-#include "harness/timing.h"
-#include "harness/trace.h"
+#include "harness/run/csv.h"
+#include "harness/reproduce/figures.h"
+#include "harness/reproduce/markdown.h"
+#include "harness/measure/timing.h"
+#include "harness/workloads/trace.h"
 
 /* ------------------------------------------------------------ a fake accelerator */
 
@@ -261,14 +261,14 @@ static void test_report(void)
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
-    report_heading(f, 2, "Table %d", 1);
-    report_table(f, "Name|Time ms:|%Saved:");
-    report_row(f, "%s|%.1f|%d%%", "old", 12.34, 5);
-    report_end(f);
-    report_bullet(f, 1, "b%d", 2);
-    report_finding(f, "it is %s.", "faster");
-    report_para(f, "end");
-    report_section(f, "Ablation", "from %s", "old");
+    md_heading(f, 2, "Table %d", 1);
+    md_table(f, "Name|Time ms:|%Saved:");
+    md_row(f, "%s|%.1f|%d%%", "old", 12.34, 5);
+    md_end(f);
+    md_bullet(f, 1, "b%d", 2);
+    md_finding(f, "it is %s.", "faster");
+    md_para(f, "end");
+    md_section(f, "Ablation", "from %s", "old");
     fclose(f);
     const char *want = "## Table 1\n\n"
                        "| Name | Time ms | %Saved |\n|---|---:|---:|\n"

@@ -1,5 +1,5 @@
 /* test_resources: the memory cap and the estimates checked against it
- * (scenes/memory_cap.h, harness/resources.h, prims/checked_alloc.h).
+ * (scenes/memory_cap.h, harness/workloads/resources.h, prims/checked_alloc.h).
  *  - the cap's default from made-up limits (physical memory, RLIMIT_AS and
  *    RLIMIT_DATA less their use, a cgroup's limit less its use: the
  *    smallest, halved), from this process's real RLIMIT_AS lowered for the
@@ -23,7 +23,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "testlib.h"
-#include "harness/resources.h"
+#include "harness/workloads/resources.h"
 #include "prims/checked_alloc.h"
 #include "scenes/memory_cap.h"
 #include "scenes/spd.h"

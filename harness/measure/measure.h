@@ -1,0 +1,94 @@
+/* measure.h: measuring one cell (an accelerator on one ray set), the one
+ * way `run` (matrix.c) and every `reproduce` do it:
+ *
+ *   1. build, timed;
+ *   2. reset, then one warm-up trace through the counting methods: its
+ *      answers are verified against the reference's and its counters go in
+ *      the CSV;
+ *   3. paired timing against the reference on the same rays at the same
+ *      thread count (timing.h), through the counting-free methods when the
+ *      accelerator has them: trace_ms and ratio_vs_embree with its spread;
+ *   4. the CSV row, with the accelerator's statistics, this process's
+ *      run id and the cell's key (cellkey.h).
+ *
+ * A ray set of no rays (a shadow workload where no primary ray hits a lit
+ * surface, say) is not measured: nothing is built or timed, and its row
+ * says rays 0 with the measured columns empty (csv.h no_rays), instead of
+ * the times and ratios of tracing nothing.
+ *
+ * Data flows one way: scene -> ray set -> the reference's answers
+ * (cell_rays) -> each accelerator's cell (cell_result). */
+#ifndef ACCELBENCH_MEASURE_H
+#define ACCELBENCH_MEASURE_H
+
+#include "../run/csv.h"
+#include "../run/machine.h"
+#include "../cli/options.h"
+#include "../workloads/rayset.h"
+#include "timing.h"
+#include "../workloads/trace.h"
+#include "verify.h"
+
+/* A cell's rays: one ray set of one scene and the reference's answers. */
+typedef struct {
+    const scene_t *scene;
+    rayset_t *rs;            /* owned */
+    accel *ref;              /* the reference (Embree): made ref_answers, and is the paired series */
+    answers_t *ref_answers;  /* owned */
+    uint32_t illposed;       /* rays whose reference hit lies within the origin bound (verify.h) */
+    verifier_t *ver;         /* the scene's judge, shared by its cells */
+} cell_rays;
+
+/* Take rs (and its ownership) and trace the reference's answers on
+ * `threads` threads. */
+void cell_rays_init(cell_rays *c, const scene_t *s, accel *ref, verifier_t *ver, rayset_t *rs, int threads);
+void cell_rays_release(cell_rays *c);
+
+/* What every row of a run shares. */
+typedef struct {
+    int threads;            /* asked for; an ACCEL_MUTATES accelerator runs on 1 (cell_threads) */
+    int repeat;             /* timed pairs */
+    int width, height, spp; /* the CSV's res and spp where the ray set has no image of its own (random), 0 = none */
+    bool warm_passes;       /* run --warm-passes: no reset before the timed passes (timing.h) */
+    const machine_info *mi;
+} cell_settings;
+
+/* An accelerator built and warmed up on a cell's rays (steps 1-2). */
+typedef struct {
+    accel *a;            /* the caller destroys it (warm_cell_release) */
+    int threads;         /* it is traced on */
+    double build_ms, warm_ms;
+    answers_t *got;      /* the warm-up's answers and counters */
+    verify_result vr;    /* got against the reference */
+} warm_cell;
+
+typedef struct {
+    csv_row row;         /* complete; scene, accel, params and workload point into the cell's scene, config and rays;
+                            its cell_key is the ray-set form (rays=HASH, cellkey.h), which run replaces by the
+                            options form when it made the rays itself */
+    verify_result vr;
+} cell_result;
+
+/* The threads an accelerator is traced on when `threads` are asked for:
+ * one for an accelerator that reorders itself while tracing. */
+int cell_threads(const struct accel_ops *ops, int threads);
+
+/* Steps 1-2: build ac over the cell's scene and trace its warm-up. Returns
+ * 0, or -1 when the build failed (reported on stderr; nothing to release). */
+int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_cell *w);
+void warm_cell_release(warm_cell *w);
+
+/* Steps 1-4 (none for a set of no rays). Returns 0, or -1 when the build
+ * failed or the cell key does not fit (reported on stderr). */
+int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_result *out);
+
+/* A row's statistics as "name value, name value" ("" when there are none). */
+void stats_format(const csv_row *row, char *buf, size_t len);
+
+/* Build ac over s, timed; a failure is reported on stderr and gives NULL. */
+accel *build_accel(const accel_config *ac, const scene_t *s, double *ms);
+
+/* The reference accelerator (Embree, default parameters) over s. */
+accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen);
+
+#endif

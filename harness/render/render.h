@@ -1,0 +1,23 @@
+/* render.h: pictures through any accelerator. */
+#ifndef ACCELBENCH_RENDER_H
+#define ACCELBENCH_RENDER_H
+
+#include "image.h"
+#include "../cli/options.h"
+#include "../workloads/rayset.h"
+
+/* `accelbench render`: a Whitted image (point-light shadows, mirror
+ * reflection to depth 3) or, with --heatmap, a per-pixel cost image of the
+ * primary rays. Returns the exit status. */
+int render_main(options *o);
+
+/* The Whitted image of a primary ray set (one colour per pixel, the mean
+ * of its samples), every ray through accelerator a; the work done is
+ * summed into *work when it is not NULL. */
+image_t *render_whitted(const scene_t *s, accel *a, const rayset_t *prim, counters_t *work);
+/* The same with the shadow rays through accelerator shadow (a shadow-only
+ * one such as lightbuf, or any other), every other ray through a; the work
+ * of both is summed into *work. */
+image_t *render_whitted_shadows(const scene_t *s, accel *a, accel *shadow, const rayset_t *prim, counters_t *work);
+
+#endif
