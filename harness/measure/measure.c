@@ -25,9 +25,10 @@ void cell_rays_release(cell_rays *c)
     memset(c, 0, sizeof *c);
 }
 
-int cell_threads(const struct accel_ops *ops, int threads)
+int cell_threads(const struct accel_ops *ops, const accel *a, int threads)
 {
-    return (ops->flags & ACCEL_MUTATES) ? 1 : threads;
+    bool serial = a ? accel_serial(a) : (ops->flags & ACCEL_MUTATES) != 0;
+    return serial ? 1 : threads;
 }
 
 int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_cell *w)
@@ -35,10 +36,10 @@ int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_c
     memset(w, 0, sizeof *w);
     w->a = build_accel(ac, c->scene, &w->build_ms);
     if (!w->a) return -1;
-    w->threads = accel_serial(w->a) ? 1 : threads; /* mutating or order-dependent: one thread */
+    w->threads = cell_threads(ac->ops, w->a, threads);
     w->got = answers_new(c->rs, false);
     accel_reset(w->a);
-    w->warm_ms = trace_rayset(w->a, c->rs, threads, w->got);
+    w->warm_ms = trace_rayset(w->a, c->rs, w->threads, w->got);
     verifier_check(c->ver, c->rs, w->got, c->ref_answers, &w->vr);
     return 0;
 }
@@ -103,12 +104,12 @@ int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings
     memset(&out->vr, 0, sizeof out->vr);
     csv_row *r = &out->row;
     if (rs->count == 0) {
-        if (row_frame(c, ac, st, cell_threads(ac->ops, st->threads), r)) return -1;
+        if (row_frame(c, ac, st, cell_threads(ac->ops, NULL, st->threads), r)) return -1;
         r->no_rays = true;
         return 0;
     }
     warm_cell w;
-    if (cell_warm_up(c, ac, cell_threads(ac->ops, st->threads), &w)) return -1;
+    if (cell_warm_up(c, ac, st->threads, &w)) return -1;
     answers_t *scratch = answers_new(rs, false);
     /* Each series' passes come from untimed traces of its own path (the
      * warm-up is one when the accelerator has no fast path); the reference

@@ -46,7 +46,7 @@ void cell_rays_release(cell_rays *c);
 
 /* What every row of a run shares. */
 typedef struct {
-    int threads;            /* asked for; an ACCEL_MUTATES accelerator runs on 1 (cell_threads) */
+    int threads;            /* asked for; a serial accelerator runs on 1 (cell_threads) */
     int repeat;             /* timed pairs */
     int width, height, spp; /* the CSV's res and spp where the ray set has no image of its own (random), 0 = none */
     bool warm_passes;       /* run --warm-passes: no reset before the timed passes (timing.h) */
@@ -69,12 +69,17 @@ typedef struct {
     verify_result vr;
 } cell_result;
 
-/* The threads an accelerator is traced on when `threads` are asked for:
- * one for an accelerator that reorders itself while tracing. */
-int cell_threads(const struct accel_ops *ops, int threads);
+/* The one rule for the threads an accelerator is traced on when `threads`
+ * are asked for: one for an instance that reorders itself while tracing or
+ * whose answers depend on the order of its rays (accel_serial). a is the
+ * built instance, or NULL where nothing was built (a set of no rays): then
+ * only the table's flags are known (ACCEL_MUTATES). Every trace of a
+ * measured accelerator (warm-up, timing, verify, heat maps) goes through it. */
+int cell_threads(const struct accel_ops *ops, const accel *a, int threads);
 
-/* Steps 1-2: build ac over the cell's scene and trace its warm-up. Returns
- * 0, or -1 when the build failed (reported on stderr; nothing to release). */
+/* Steps 1-2: build ac over the cell's scene and trace its warm-up on
+ * cell_threads(threads) threads (w->threads). Returns 0, or -1 when the
+ * build failed (reported on stderr; nothing to release). */
 int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_cell *w);
 void warm_cell_release(warm_cell *w);
 

@@ -11,6 +11,7 @@
  * shadow-only one such as the light buffer), so two correct accelerators
  * give the same picture up to float noise at edges. */
 #include "render.h"
+#include "../measure/measure.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -105,7 +106,7 @@ static int render_heatmap(const options *o, const scene_t *s, accel *a, const ra
         return 2;
     }
     answers_t *ans = answers_new(prim, true);
-    trace_rayset(a, prim, accel_serial(a) ? 1 : o->threads, ans);
+    trace_rayset(a, prim, cell_threads(a->ops, a, o->threads), ans);
     size_t npix = (size_t)prim->width * prim->height;
     double *cost = checked_calloc(npix, sizeof *cost, "a heat map's per-pixel costs");
     bool steps = strcmp(o->heatmap, "steps") == 0;

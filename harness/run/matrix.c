@@ -864,7 +864,7 @@ int matrix_verify(options *o)
                 const accel_config *ac = &o->accels[ai];
                 if (!accel_runs_workload(ac->ops, in.rs->query)) continue;
                 warm_cell wc;
-                if (cell_warm_up(&in, ac, cell_threads(ac->ops, o->threads), &wc)) {
+                if (cell_warm_up(&in, ac, o->threads, &wc)) {
                     status = 2;
                     break;
                 }
