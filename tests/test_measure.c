@@ -12,6 +12,7 @@
 #include "check.h"
 #include "harness/run/csv.h"
 #include "harness/measure/measure.h"
+#include "harness/run/cell_row.h"
 #include "harness/reproduce/figures.h"
 #include "harness/reproduce/markdown.h"
 #include "harness/measure/timing.h"
@@ -229,22 +230,24 @@ static void test_serial_cell(const scene_t *s)
     fake *ref = fake_new(&fake_v1, s);
     verifier_t *ver = verifier_new(s, 0);
     machine_info mi = {0};
-    cell_settings st = {.threads = 4, .repeat = 1, .mi = &mi};
+    row_settings st = {.cell = {.threads = 4, .repeat = 1}, .mi = &mi};
     for (int od = 1; od >= 0; od--) {
         cell_rays c;
-        cell_rays_init(&c, s, &ref->base, ver, some_rays(QUERY_CLOSEST, 4096), st.threads);
+        cell_rays_init(&c, s, &ref->base, ver, some_rays(QUERY_CLOSEST, 4096), st.cell.threads);
         accel_config ac = {.ops = od ? &fake_od : &fake_free_order};
         params_defaults(&ac.params, ac.ops->params);
         snprintf(ac.label, sizeof ac.label, "%s", ac.ops->name);
         od_threads = 0;
-        cell_result cr;
-        CHECK(measure_cell(&c, &ac, &st, &cr) == 0);
+        cell_measurement m;
+        CHECK(measure_cell(&c, &ac, &st.cell, &m) == 0);
+        csv_row row;
+        CHECK(cell_row(&c, &ac, &st, &m, &row) == 0);
         if (od) {
             CHECK_MSG(od_threads == 1, "an order-dependent accelerator traced on %d threads", od_threads);
-            CHECK(cr.row.threads == 1 && cr.row.serial);
+            CHECK(m.threads == 1 && row.threads == 1 && row.serial);
         } else {
             CHECK(od_threads >= 1);
-            CHECK(cr.row.threads == 4 && !cr.row.serial);
+            CHECK(m.threads == 4 && row.threads == 4 && !row.serial);
         }
         cell_rays_release(&c);
     }

@@ -23,6 +23,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "testlib.h"
+#include "harness/cli/options.h"
 #include "harness/workloads/resources.h"
 #include "prims/checked_alloc.h"
 #include "scenes/memory_cap.h"

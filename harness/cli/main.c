@@ -16,10 +16,11 @@
 #include "../run/matrix.h"
 #include "../run/merge.h"
 #include "options.h"
-#include "../render/render.h"
+#include "render_cmd.h"
 #include "../reproduce/reproduce.h"
 #include "../run/run_outputs.h"
 #include "scene_cmd.h"
+#include "verify_cmd.h"
 #include "version.h"
 
 static void usage(FILE *out)
@@ -163,7 +164,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "reproduce")) return reproduce_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "merge")) return merge_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "report")) return report_main(argc - 1, argv + 1);
-    int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? matrix_verify
+    int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? verify_main
                                                             : !strcmp(cmd, "render") ? render_main : NULL;
     if (!run) {
         fprintf(stderr, "accelbench: unknown command '%s' (see accelbench --help)\n", cmd);

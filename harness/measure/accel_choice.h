@@ -11,11 +11,25 @@
  * ablation steps rely on it).
  * run, verify, render and reproduce (reproduce_kit.c's rp_measure) build
  * their instances here. */
-#ifndef ACCELBENCH_ACCEL_SPEC_H
-#define ACCELBENCH_ACCEL_SPEC_H
+#ifndef ACCELBENCH_ACCEL_CHOICE_H
+#define ACCELBENCH_ACCEL_CHOICE_H
 
+#include <stdbool.h>
 #include <stddef.h>
-#include "../cli/options.h"
+#include "../../accel/accel.h"
+
+/* The most items of a list option (--scenes, --accels, --workloads). */
+#define OPT_LIST_MAX 64
+
+/* One accelerator instance: its table, its parameters and how it is named. */
+typedef struct {
+    const struct accel_ops *ops;
+    accel_params params;
+    char params_str[512]; /* every parameter, "k=v,k=v" in table order (the CSV's params) */
+    char label[600];      /* name, with [params] when they differ from the defaults */
+    bool memcap_bounded;  /* params' memcap is the default lowered to the memory cap (resources.h): params_str,
+                           * label and replay commands keep the default */
+} accel_config;
 
 /* Expand list into at most max instances, each with its table's defaults and
  * the item's settings (threads, seed, params_str and label are the caller's).

@@ -70,42 +70,13 @@ static int read_stats(const accel *a, const paired_timing *pt, accel_stat *st)
     return n;
 }
 
-/* The row's identity, its ray set's image and what no measurement needs. */
-static int row_frame(const cell_rays *c, const accel_config *ac, const cell_settings *st, int threads, csv_row *r)
+int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_measurement *out)
 {
     const rayset_t *rs = c->rs;
-    *r = (csv_row){
-        .scene = c->scene->name, .prims = c->scene->prims.count, .accel = ac->ops->name, .params = ac->params_str,
-        .workload = rs->workload, .rays = rs->count, .threads = threads, .seed = rs->seed, .rayset_hash = rs->hash,
-        .has_counters = !(ac->ops->flags & ACCEL_OPAQUE), .illposed_rays = c->illposed, .serial = threads != st->threads,
-        .repeat = st->repeat, .git_rev = st->mi->git_rev, .machine = st->mi->host, .cpu = st->mi->cpu,
-        .date = st->mi->date,
-    };
-    /* What ran: the ray set's own image and samples (a replayed file's), else the settings' (random has no image). */
-    bool image = rs->width > 0 && rs->height > 0;
-    r->width = image ? (int)rs->width : st->width;
-    r->height = image ? (int)rs->height : st->height;
-    r->spp = image ? (int)rs->spp : st->spp;
-    snprintf(r->run_id, sizeof r->run_id, "%s", run_id_current());
-    cell_key_parts k = {.scene = r->scene, .accel = r->accel, .params = r->params, .workload = r->workload,
-                        .wl = NULL, .rays_hash = rs->hash, .threads = st->threads, .repeat = st->repeat,
-                        .warm = st->warm_passes};
-    if (cell_key_format(&k, r->cell_key, sizeof r->cell_key)) {
-        fprintf(stderr, "accelbench: %s %s %s: the cell key is longer than %d bytes\n", r->scene, r->accel, r->workload,
-                CELL_KEY_MAX - 1);
-        return -1;
-    }
-    return 0;
-}
-
-int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_result *out)
-{
-    const rayset_t *rs = c->rs;
-    memset(&out->vr, 0, sizeof out->vr);
-    csv_row *r = &out->row;
+    memset(out, 0, sizeof *out);
     if (rs->count == 0) {
-        if (row_frame(c, ac, st, cell_threads(ac->ops, NULL, st->threads), r)) return -1;
-        r->no_rays = true;
+        out->no_rays = true;
+        out->threads = cell_threads(ac->ops, NULL, st->threads);
         return 0;
     }
     warm_cell w;
@@ -120,41 +91,20 @@ int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings
     bool warm_up_calibrates = !trace_has_fast(w.a, rs->query) && !(sa.warm && accel_resets(w.a));
     sa.passes = timing_calibrate(&sa, rs, scratch, warm_up_calibrates ? w.warm_ms : -1);
     se.passes = timing_calibrate(&se, rs, scratch, -1);
-    paired_timing pt = timing_pairs(&sa, &se, rs, st->repeat, scratch);
+    out->pt = timing_pairs(&sa, &se, rs, st->repeat, scratch);
     answers_free(scratch);
 
-    const verify_result *vr = &w.vr;
+    out->threads = w.threads;
     out->vr = w.vr;
-    if (row_frame(c, ac, st, w.threads, r)) {
-        warm_cell_release(&w);
-        return -1;
-    }
-    r->build_ms = w.build_ms;
-    r->trace_ms = pt.a.median, r->trace_ms_min = pt.a.min, r->trace_ms_max = pt.a.max;
-    r->mrays_per_s = pt.a.median > 0 ? rs->count / (pt.a.median * 1e3) : 0;
-    r->ratio_vs_embree = pt.ratio, r->ratio_min = pt.ratio_min, r->ratio_max = pt.ratio_max;
-    r->embree_ms = pt.e.median;
-    r->mem_bytes = w.a->ops->memory(w.a);
-    r->counters = w.got->total;
-    r->agree = vr->agree;
-    r->mismatch_real = vr->mismatches[MM_REAL], r->mismatch_edge = vr->mismatches[MM_EDGE];
-    r->mismatch_tol = vr->mismatches[MM_TOL], r->mismatch_refwrong = vr->mismatches[MM_REFWRONG];
-    r->mismatch_origin = vr->mismatches[MM_ORIGIN], r->mismatch_unjudged = vr->mismatches[MM_UNJUDGED];
-    r->judge_ms = vr->judge_ms;
-    r->passes = sa.passes;
-    r->timed_path = timed_path_name(w.a, rs->query);
-    r->timed_from = !accel_resets(w.a) ? "" : st->warm_passes ? "warm" : "reset";
-    r->nstats = read_stats(w.a, &pt, r->stats);
+    out->build_ms = w.build_ms;
+    out->mem_bytes = w.a->ops->memory(w.a);
+    out->counters = w.got->total;
+    out->passes = sa.passes;
+    out->timed_path = timed_path_name(w.a, rs->query);
+    out->timed_from = !accel_resets(w.a) ? "" : st->warm_passes ? "warm" : "reset";
+    out->nstats = read_stats(w.a, &out->pt, out->stats);
     warm_cell_release(&w);
     return 0;
-}
-
-void stats_format(const csv_row *row, char *buf, size_t len)
-{
-    size_t n = 0;
-    buf[0] = 0;
-    for (int i = 0; i < row->nstats && n < len; i++)
-        n += (size_t)snprintf(buf + n, len - n, "%s%s %.6g", i ? ", " : "", row->stats[i].name, row->stats[i].value);
 }
 
 accel *build_reference(const scene_t *s, int threads, char *err, size_t errlen)

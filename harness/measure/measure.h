@@ -1,5 +1,5 @@
 /* measure.h: measuring one cell (an accelerator on one ray set), the one
- * way `run` (matrix.c) and every `reproduce` do it:
+ * way `run` (run/matrix.c) and every `reproduce` do it:
  *
  *   1. build, timed;
  *   2. reset, then one warm-up trace through the counting methods: its
@@ -8,22 +8,21 @@
  *   3. paired timing against the reference on the same rays at the same
  *      thread count (timing.h), through the counting-free methods when the
  *      accelerator has them: trace_ms and ratio_vs_embree with its spread;
- *   4. the CSV row, with the accelerator's statistics, this process's
- *      run id and the cell's key (cellkey.h).
+ *   4. the accelerator's statistics, its memory and what the timed passes
+ *      called: one measurement record (cell_measurement), which run/cell_row.h
+ *      makes a CSV row of.
  *
  * A ray set of no rays (a shadow workload where no primary ray hits a lit
- * surface, say) is not measured: nothing is built or timed, and its row
- * says rays 0 with the measured columns empty (csv.h no_rays), instead of
- * the times and ratios of tracing nothing.
+ * surface, say) is not measured: nothing is built or timed, and the
+ * record says so (no_rays), instead of the times and ratios of tracing
+ * nothing.
  *
  * Data flows one way: scene -> ray set -> the reference's answers
  * (cell_rays) -> each accelerator's cell (cell_result). */
 #ifndef ACCELBENCH_MEASURE_H
 #define ACCELBENCH_MEASURE_H
 
-#include "../run/csv.h"
-#include "../run/machine.h"
-#include "../cli/options.h"
+#include "accel_choice.h"
 #include "../workloads/rayset.h"
 #include "timing.h"
 #include "../workloads/trace.h"
@@ -44,13 +43,11 @@ typedef struct {
 void cell_rays_init(cell_rays *c, const scene_t *s, accel *ref, verifier_t *ver, rayset_t *rs, int threads);
 void cell_rays_release(cell_rays *c);
 
-/* What every row of a run shares. */
+/* How every cell of a run is measured. */
 typedef struct {
     int threads;            /* asked for; a serial accelerator runs on 1 (cell_threads) */
     int repeat;             /* timed pairs */
-    int width, height, spp; /* the CSV's res and spp where the ray set has no image of its own (random), 0 = none */
     bool warm_passes;       /* run --warm-passes: no reset before the timed passes (timing.h) */
-    const machine_info *mi;
 } cell_settings;
 
 /* An accelerator built and warmed up on a cell's rays (steps 1-2). */
@@ -62,12 +59,21 @@ typedef struct {
     verify_result vr;    /* got against the reference */
 } warm_cell;
 
+/* What one cell measured (steps 1-4). */
 typedef struct {
-    csv_row row;         /* complete; scene, accel, params and workload point into the cell's scene, config and rays;
-                            its cell_key is the ray-set form (rays=HASH, cellkey.h), which run replaces by the
-                            options form when it made the rays itself */
-    verify_result vr;
-} cell_result;
+    bool no_rays;             /* a set of no rays: nothing below was measured */
+    int threads;              /* the accelerator was traced on (cell_threads) */
+    double build_ms;
+    paired_timing pt;         /* the timed samples, paired with the reference's */
+    int passes;               /* traces per timed sample */
+    size_t mem_bytes;
+    counters_t counters;      /* the warm-up's */
+    verify_result vr;         /* the warm-up's answers against the reference's */
+    const char *timed_path;   /* "fast", "counting" or "opaque": the methods the timed samples called */
+    const char *timed_from;   /* "" (no reset method), "reset" or "warm": what each timed pass starts from */
+    accel_stat stats[ACCEL_STATS_MAX]; /* lazy_build_ms: its median over the samples */
+    int nstats;
+} cell_measurement;
 
 /* The one rule for the threads an accelerator is traced on when `threads`
  * are asked for: one for an instance that reorders itself while tracing or
@@ -84,11 +90,8 @@ int cell_warm_up(const cell_rays *c, const accel_config *ac, int threads, warm_c
 void warm_cell_release(warm_cell *w);
 
 /* Steps 1-4 (none for a set of no rays). Returns 0, or -1 when the build
- * failed or the cell key does not fit (reported on stderr). */
-int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_result *out);
-
-/* A row's statistics as "name value, name value" ("" when there are none). */
-void stats_format(const csv_row *row, char *buf, size_t len);
+ * failed (reported on stderr). */
+int measure_cell(const cell_rays *c, const accel_config *ac, const cell_settings *st, cell_measurement *out);
 
 /* Build ac over s, timed; a failure is reported on stderr and gives NULL. */
 accel *build_accel(const accel_config *ac, const scene_t *s, double *ms);

@@ -3,13 +3,8 @@
 #define ACCELBENCH_RENDER_H
 
 #include "image.h"
-#include "../cli/options.h"
+#include "../workloads/workload.h"
 #include "../workloads/rayset.h"
-
-/* `accelbench render`: a Whitted image (point-light shadows, mirror
- * reflection to depth 3) or, with --heatmap, a per-pixel cost image of the
- * primary rays. Returns the exit status. */
-int render_main(options *o);
 
 /* The Whitted image of a primary ray set (one colour per pixel, the mean
  * of its samples), every ray through accelerator a; the work done is

@@ -9,6 +9,7 @@
 #include <getopt.h>
 #include <stdlib.h>
 #include <string.h>
+#include "../run/cell_row.h"
 #include "../run/csv.h"
 #include "../run/output.h"
 #include "markdown.h"
@@ -321,11 +322,11 @@ meas *rp_measure(rp_kit *k, const char *table, const char *variant, const char *
     m->scene = k->cur, m->spp = k->spp, m->width = k->width, m->height = k->height, m->ops = ac.ops;
     snprintf(m->params, sizeof m->params, "%s", ac.params_str);
     m->nsets = k->nsets;
-    cell_settings st = {.threads = k->timed_threads, .repeat = k->o.repeat, .width = k->width, .height = k->height,
-                        .spp = k->spp, .mi = &k->mi};
+    row_settings st = {.cell = {.threads = k->timed_threads, .repeat = k->o.repeat}, .width = k->width,
+                       .height = k->height, .spp = k->spp, .mi = &k->mi};
     for (int i = 0; i < k->nsets; i++) {
         cell_result cr;
-        if (measure_cell(&k->cells[i], &ac, &st, &cr)) return NULL;
+        if (measure_cell_row(&k->cells[i], &ac, &st, &cr)) return NULL;
         if (i == 0) grid_res(&cr.row, m->res, m->res_str, sizeof m->res_str);
         snprintf(m->workload[i], sizeof m->workload[i], "%s", cr.row.workload);
         /* The stored row outlives the scene and the ray sets: point it at

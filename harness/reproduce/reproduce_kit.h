@@ -21,6 +21,7 @@
 #include <stdio.h>
 #include "../run/machine.h"
 #include "../measure/measure.h"
+#include "../run/cell_row.h"
 
 typedef struct {
     const char *out;

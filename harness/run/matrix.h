@@ -1,16 +1,13 @@
-/* matrix.h: the scene x accelerator x workload loop behind `run` and
- * `verify`. Data flows one way: scene -> ray set -> reference answers ->
- * each accelerator's cell (measure.h: build, warm-up with answers and
- * counters, verify, timing paired with Embree's) -> CSV row / verify
- * table (verify stops after the warm-up). */
+/* matrix.h: the scene x accelerator x workload loop behind `run`. Data
+ * flows one way: scene -> ray set -> reference answers -> each
+ * accelerator's cell (measure.h: build, warm-up with answers and counters,
+ * verify, timing paired with Embree's) -> CSV row. */
 #ifndef ACCELBENCH_MATRIX_H
 #define ACCELBENCH_MATRIX_H
 
-#include "../cli/options.h"
+#include "run_options.h"
 
 /* `accelbench run`: returns the process exit status. */
 int matrix_run(options *o);
-/* `accelbench verify`: returns 0, 1 (a real mismatch) or 2 (bad input). */
-int matrix_verify(options *o);
 
 #endif

@@ -129,3 +129,38 @@ void run_plot_script(const char *script, const char *csv_path, bool quiet)
     int rc = spawn_wait(argv);
     if (rc != 0) fprintf(stderr, "accelbench: warning: plotting failed (exit %d); the CSV is complete: %s\n", rc, csv_path);
 }
+
+/* Append one shell word to buf, single-quoted when the shell would split
+ * or expand it (a quote inside becomes '\''), or as $'...' with \xHH
+ * escapes when it holds a control character. */
+void shell_word(char *buf, size_t len, const char *word)
+{
+    size_t n = strlen(buf);
+    bool plain = *word != 0;
+    for (const char *c = word; *c; c++)
+        if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789:,._/=+-@%", *c)) plain = false;
+    if (n && n + 1 < len) buf[n++] = ' ', buf[n] = 0;
+    if (plain) {
+        snprintf(buf + n, len - n, "%s", word);
+        return;
+    }
+    bool control = false;
+    for (const unsigned char *c = (const unsigned char *)word; *c; c++) control |= *c < 0x20 || *c == 0x7f;
+    if (control) {
+        /* bash's $'...': the terminal sees no control character, and the line still pastes. */
+        if (n + 2 < len) n += (size_t)snprintf(buf + n, len - n, "$'");
+        for (const unsigned char *c = (const unsigned char *)word; *c && n + 6 < len; c++) {
+            if (*c < 0x20 || *c == 0x7f) n += (size_t)snprintf(buf + n, len - n, "\\x%02x", *c);
+            else if (*c == '\'' || *c == '\\') n += (size_t)snprintf(buf + n, len - n, "\\%c", *c);
+            else buf[n++] = (char)*c, buf[n] = 0;
+        }
+        if (n + 1 < len) buf[n++] = '\'', buf[n] = 0;
+        return;
+    }
+    if (n + 1 < len) buf[n++] = '\'', buf[n] = 0;
+    for (const char *c = word; *c && n + 5 < len; c++) {
+        if (*c == '\'') n += (size_t)snprintf(buf + n, len - n, "'\\''");
+        else buf[n++] = *c, buf[n] = 0;
+    }
+    if (n + 1 < len) buf[n++] = '\'', buf[n] = 0;
+}

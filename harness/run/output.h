@@ -45,4 +45,10 @@ const char *python_interpreter(void);
  * warning, the CSV stands. */
 void run_plot_script(const char *script, const char *csv_path, bool quiet);
 
+/* Append one shell word to buf (after a space when buf is not empty),
+ * single-quoted when the shell would split or expand it (a quote inside
+ * becomes '\''), or as $'...' with \xHH escapes when it holds a control
+ * character: a command line a user can paste. */
+void shell_word(char *buf, size_t len, const char *word);
+
 #endif

@@ -45,7 +45,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
-#include "../cli/options.h"
+#include "run_options.h"
 
 #define SHARD_MAX 4096
 #define SHARD_MANIFEST "shard.txt"

@@ -37,7 +37,7 @@ static uint64_t max_u64(uint64_t a, uint64_t b) { return a > b ? a : b; }
  * the set for nearest hits beside them (then frees them), and the
  * accelerator's warm-up answers and the timing's scratch answers come
  * after, beside the reference's. */
-static uint64_t cell_answers_bytes(uint64_t n, query_kind q)
+uint64_t resources_cell_answers_bytes(uint64_t n, query_kind q)
 {
     uint64_t ref = resources_answers_bytes(n, q, false), closest = resources_answers_bytes(n, QUERY_CLOSEST, false);
     return memory_add(ref, max_u64(closest, memory_mul(ref, 2)));
@@ -50,7 +50,7 @@ static uint64_t cell_answers_bytes(uint64_t n, query_kind q)
 
 static uint64_t cell_bytes(uint64_t n, query_kind q, bool pixels)
 {
-    return memory_add(memory_add(resources_rayset_bytes(n, pixels), cell_answers_bytes(n, q)), CELL_OVERHEAD_BYTES);
+    return memory_add(memory_add(resources_rayset_bytes(n, pixels), resources_cell_answers_bytes(n, q)), CELL_OVERHEAD_BYTES);
 }
 
 /* The rays a primary set of o has: W*H*spp, or (W+1)(H+1) corner rays. */
@@ -263,62 +263,4 @@ int resources_bound_memcap_param(const char *accel_name, accel_params *params)
         return -1;
     }
     return 0;
-}
-
-int resources_apply_memcap(options *o)
-{
-    memory_cap_set_mib(o->memcap_mib);
-    for (int i = 0; i < o->naccels; i++) {
-        accel_config *ac = &o->accels[i];
-        accel_params before = ac->params;
-        if (resources_bound_memcap_param(ac->ops->name, &ac->params)) return 2;
-        ac->memcap_bounded = memcmp(before.values, ac->params.values, sizeof before.values) != 0;
-    }
-    return 0;
-}
-
-/* The fewest heap bytes one primitive of any kind takes in a scene: its
- * kind, index, bounds and material, and a triangle's three indices and
- * degenerate flag (the smallest kind; vertices may be shared). */
-#define PRIM_MIN_BYTES (1 + sizeof(uint32_t) + sizeof(box3) + sizeof(uint16_t) + sizeof(tri_t) + 1)
-
-int resources_check_options(const options *o, const char *cmd)
-{
-    char err[1024];
-    if (resources_check_threads(o->threads, "--threads", err, sizeof err)) goto refuse;
-    for (int i = 0; i < o->nscenes; i++) {
-        uint64_t prims;
-        if (scene_generated(o->scenes[i], &prims) &&
-            memory_cap_exceeded(memory_mul(prims, PRIM_MIN_BYTES), err, sizeof err,
-                                "scene %s: %llu primitives (at least %zu bytes each)", o->scenes[i],
-                                (unsigned long long)prims, (size_t)PRIM_MIN_BYTES))
-            goto refuse;
-    }
-    if (o->rays_file) {
-        /* The file is read whole, then copied into the set; its rays are at least 40 bytes each. */
-        struct stat st;
-        if (stat(o->rays_file, &st) == 0 && st.st_size > 0) {
-            uint64_t size = (uint64_t)st.st_size, n = size / sizeof(ray_t);
-            uint64_t bytes = memory_add(memory_mul(size, 2), cell_answers_bytes(n, QUERY_CLOSEST));
-            if (memory_cap_exceeded(bytes, err, sizeof err, "--rays %s: a %llu-byte file of up to %llu rays and their answers",
-                                    o->rays_file, (unsigned long long)size, (unsigned long long)n))
-                goto refuse;
-        }
-        return 0;
-    }
-    if (!strcmp(cmd, "render")) {
-        /* Without --res the image is the scene's own size, known once it is loaded (render.c checks it then). */
-        if (o->res_given &&
-            resources_check_render(o->scenes[0], o->wl.width, o->wl.height, o->wl.spp, o->wl.corners, o->heatmap != NULL,
-                                   err, sizeof err))
-            goto refuse;
-        return 0;
-    }
-    /* The sets do not depend on the scene at one light. */
-    for (int i = 0; i < o->nworkloads; i++)
-        if (resources_check_workload(o->workloads[i]->name, o->scenes[0], &o->wl, 1, err, sizeof err)) goto refuse;
-    return 0;
-refuse:
-    fprintf(stderr, "accelbench: %s\n", err);
-    return 2;
 }

@@ -7,7 +7,7 @@
  * and while one cell traces it (resources_workload), render's image
  * (resources_render), the answers of a trace, the tracing threads' stacks
  * (resources_threads), and, from the scene name alone, a generated scene's
- * primitive store (resources_check_options; the generator itself makes the
+ * primitive store (cli/options.h resources_check_options; the generator itself makes the
  * exact estimate before generating, scenes/spd.c). Counts a ray set cannot
  * hold (2^32 - 1 rays) are refused whatever the cap.
  *
@@ -25,7 +25,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "../../scenes/memory_cap.h"
-#include "../cli/options.h"
+#include "../../accel/accel.h"
 #include "rayset.h"
 #include "workload.h"
 
@@ -39,6 +39,9 @@
 uint64_t resources_rayset_bytes(uint64_t n, bool pixels);
 /* Heap bytes of the answers of n rays (answers_new). */
 uint64_t resources_answers_bytes(uint64_t n, query_kind q, bool per_ray_counters);
+/* The answers alive while a cell traces n rays of query q: the
+ * reference's, and the accelerator's beside the timing's scratch. */
+uint64_t resources_cell_answers_bytes(uint64_t n, query_kind q);
 
 typedef struct {
     uint64_t rays;  /* an upper bound on the rays of the set */
@@ -89,18 +92,5 @@ int resources_parse_memcap(const char *arg, uint64_t *mib, char *err, size_t err
  * above it, refused (-1 after printing one line). 0 otherwise. For every
  * place that fills an accelerator's parameters. */
 int resources_bound_memcap_param(const char *accel_name, accel_params *params);
-
-/* For run, verify and render once their options are parsed (options.c):
- * set the cap (o->memcap_mib, 0 for the default) and bound every
- * accelerator's memcap parameter by it. 0, or 2 after printing one line. */
-int resources_apply_memcap(options *o);
-/* Then everything the options of command cmd size, before any scene is
- * loaded: the threads, every generated scene's store at the fewest bytes a
- * primitive takes (the generator's own estimate follows), --rays' file,
- * and every workload's ray set at one light (a lower bound: every scene
- * has a light; the exact count is checked when each set is made), or for
- * render the image when --res gives its size. 0, or 2 after printing one
- * line. */
-int resources_check_options(const options *o, const char *cmd);
 
 #endif
