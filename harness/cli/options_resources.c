@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "../../scenes/scene.h"
+#include "../render/render.h"
 #include "../workloads/resources.h"
 
 int resources_apply_memcap(options *o)
@@ -43,7 +44,7 @@ int resources_check_options(const options *o, const char *cmd)
         struct stat st;
         if (stat(o->rays_file, &st) == 0 && st.st_size > 0) {
             uint64_t size = (uint64_t)st.st_size, n = size / sizeof(ray_t);
-            uint64_t bytes = memory_add(memory_mul(size, 2), resources_cell_answers_bytes(n, QUERY_CLOSEST));
+            uint64_t bytes = memory_add(memory_mul(size, 2), cell_answers_bytes(n, QUERY_CLOSEST));
             if (memory_cap_exceeded(bytes, err, sizeof err, "--rays %s: a %llu-byte file of up to %llu rays and their answers",
                                     o->rays_file, (unsigned long long)size, (unsigned long long)n))
                 goto refuse;
@@ -53,14 +54,14 @@ int resources_check_options(const options *o, const char *cmd)
     if (!strcmp(cmd, "render")) {
         /* Without --res the image is the scene's own size, known once it is loaded (render.c checks it then). */
         if (o->res_given &&
-            resources_check_render(o->scenes[0], o->wl.width, o->wl.height, o->wl.spp, o->wl.corners, o->heatmap != NULL,
+            render_check_memory(o->scenes[0], o->wl.width, o->wl.height, o->wl.spp, o->wl.corners, o->heatmap != NULL,
                                    err, sizeof err))
             goto refuse;
         return 0;
     }
     /* The sets do not depend on the scene at one light. */
     for (int i = 0; i < o->nworkloads; i++)
-        if (resources_check_workload(o->workloads[i]->name, o->scenes[0], &o->wl, 1, err, sizeof err)) goto refuse;
+        if (workload_check_memory(o->workloads[i]->name, o->scenes[0], &o->wl, 1, err, sizeof err)) goto refuse;
     return 0;
 refuse:
     fprintf(stderr, "accelbench: %s\n", err);

@@ -90,7 +90,7 @@ int render_main(options *o)
     /* The image's memory before the build and the rays (resources.h);
      * with --res it was checked before the scene loaded, without it the
      * size is the scene's own, known only now. */
-    if (resources_check_render(s->name, wl.width, wl.height, wl.spp, wl.corners, o->heatmap != NULL, err, sizeof err)) {
+    if (render_check_memory(s->name, wl.width, wl.height, wl.spp, wl.corners, o->heatmap != NULL, err, sizeof err)) {
         fprintf(stderr, "accelbench: %s%s\n", err, o->res_given ? "" : " (the scene's own resolution: --res sets another)");
         scene_free(s);
         return 2;

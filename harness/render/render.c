@@ -79,3 +79,34 @@ image_t *render_whitted_shadows(const scene_t *s, accel *a, accel *shadow, const
     free(sum);
     return im;
 }
+
+resources_estimate render_estimate(int width, int height, int spp, bool corners, bool heatmap)
+{
+    workload_opts o = {.width = width, .height = height, .spp = spp, .corners = corners};
+    uint64_t n = workload_primary_rays(&o), pixels = memory_mul((uint64_t)(width > 0 ? width : 1), (uint64_t)(height > 0 ? height : 1));
+    resources_estimate e = {n, rayset_bytes(n, true)};
+    uint64_t image = memory_mul(pixels, 3);
+    if (heatmap) /* answers with per-ray counters, then one double a pixel */
+        e.bytes = memory_add(e.bytes, memory_add(answers_bytes(n, QUERY_CLOSEST, true),
+                                                 memory_add(memory_mul(pixels, sizeof(double)), image)));
+    else /* one colour sum a pixel (vec3) beside the image */
+        e.bytes = memory_add(e.bytes, memory_add(memory_mul(pixels, sizeof(vec3)), image));
+    return e;
+}
+
+int render_check_memory(const char *scene, int width, int height, int spp, bool corners, bool heatmap, char *err,
+                           size_t errlen)
+{
+    resources_estimate e = render_estimate(width, height, spp, corners, heatmap);
+    char image[96];
+    resources_describe_image(image, sizeof image, width, height, spp, corners);
+    if (e.rays > RAYSET_RAYS_MAX) {
+        snprintf(err, errlen, "render %s: %s is %llu primary rays, more than a ray set holds (2^32 - 1); lower --res or --spp",
+                 scene, image, (unsigned long long)e.rays);
+        return -1;
+    }
+    return memory_cap_exceeded(e.bytes, err, errlen, "render %s: a %s %s and its %llu rays", scene, image,
+                               heatmap ? "heat map" : "image", (unsigned long long)e.rays)
+               ? -1
+               : 0;
+}

@@ -9,7 +9,7 @@
  *
  * Cost: an estimate in abstract work units, made without building anything
  * (shard_cell_cost): P primitives (the scene loaded once, then freed), R
- * rays (resources_workload's upper bound for the scene's lights, or a
+ * rays (workload_estimate's upper bound for the scene's lights, or a
  * replayed file's count), L = log2(P + 2), passes = repeat + 1 (the warm-up
  * and the timed samples):
  *

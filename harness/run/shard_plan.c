@@ -48,7 +48,7 @@ int plan_shard(const options *o, const rayset_t *replay, const char *out_dir, co
         scene_free(s);
         for (int wi = 0; wi < nw && status == 0; wi++) {
             query_kind q = replay ? replay->query : o->workloads[wi]->query;
-            uint64_t rays = replay ? replay->count : resources_workload(o->workloads[wi]->name, &o->wl, nlights).rays;
+            uint64_t rays = replay ? replay->count : workload_estimate(o->workloads[wi]->name, &o->wl, nlights).rays;
             for (int ai = 0; ai < o->naccels && status == 0; ai++) {
                 const accel_config *ac = &o->accels[ai];
                 if (!accel_runs_workload(ac->ops, q)) continue;

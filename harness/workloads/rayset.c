@@ -11,6 +11,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
+/* rayset_push's first capacity; it doubles from there. */
+#define RAYSET_FIRST_CAP 4096u
+
 /* Version 3: rays carry their origin primitive (ray_t.origin). Version 2
  * had 0 in that field on every ray, which would read as "leaves primitive
  * 0", so its files are refused rather than misread. Version 2 made the
@@ -45,7 +48,7 @@ void rayset_push(rayset_t *rs, const ray_t *r, uint32_t pixel)
         exit(2);
     }
     if (rs->count == rs->cap) {
-        rs->cap = rs->cap > UINT32_MAX / 2 ? UINT32_MAX : rs->cap ? rs->cap * 2 : 4096;
+        rs->cap = rs->cap > UINT32_MAX / 2 ? UINT32_MAX : rs->cap ? rs->cap * 2 : RAYSET_FIRST_CAP;
         rs->rays = checked_realloc(rs->rays, (size_t)rs->cap * sizeof *rs->rays, "a ray set's rays");
         if (rs->width) rs->pixel = checked_realloc(rs->pixel, (size_t)rs->cap * sizeof *rs->pixel, "a ray set's pixels");
     }
@@ -306,4 +309,14 @@ int rayset_check_origins(const rayset_t *rs, const char *path, const char *scene
 {
     return check_index_field(rs, offsetof(ray_t, origin), RAY_NO_ORIGIN, nprims, "leaves", "primitive", path, scene,
                              err, errlen);
+}
+
+uint64_t rayset_bytes(uint64_t n, bool pixels)
+{
+    if (n == 0) return 0;
+    uint64_t cap = RAYSET_FIRST_CAP;
+    while (cap < n && cap < RAYSET_RAYS_MAX) cap *= 2;
+    if (cap > RAYSET_RAYS_MAX) cap = RAYSET_RAYS_MAX;
+    if (n > cap) cap = n; /* beyond what a set holds: the count is refused anyway */
+    return memory_mul(cap, sizeof(ray_t) + (pixels ? sizeof(uint32_t) : 0));
 }

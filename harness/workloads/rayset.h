@@ -22,6 +22,7 @@
 #ifndef ACCELBENCH_RAYSET_H
 #define ACCELBENCH_RAYSET_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include "../../prims/ray.h"
@@ -77,5 +78,14 @@ int rayset_check_lights(const rayset_t *rs, const char *path, const char *scene,
  * primitive P, but scene 'S' has N primitives". */
 int rayset_check_origins(const rayset_t *rs, const char *path, const char *scene, uint32_t nprims, char *err,
                          size_t errlen);
+
+/* The most rays a ray set holds (its count is a uint32, in memory and in
+ * the file). */
+#define RAYSET_RAYS_MAX UINT32_MAX
+
+/* Heap bytes of a ray set of n rays (with each ray's pixel or not) as
+ * rayset_push grows it: its capacity doubles from its first, so it holds
+ * up to twice n. */
+uint64_t rayset_bytes(uint64_t n, bool pixels);
 
 #endif

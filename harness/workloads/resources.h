@@ -1,15 +1,16 @@
-/* resources.h: what the harness's commands would allocate, estimated
- * before they allocate it and refused above the memory cap
- * (scenes/memory_cap.h, --memcap MIB) with exit 2 and one line: what, how
- * many bytes, the cap and where it came from, how to raise it.
- *
- * Estimated: a workload's ray set with everything alive while it is made
- * and while one cell traces it (resources_workload), render's image
- * (resources_render), the answers of a trace, the tracing threads' stacks
- * (resources_threads), and, from the scene name alone, a generated scene's
- * primitive store (cli/options.h resources_check_options; the generator itself makes the
- * exact estimate before generating, scenes/spd.c). Counts a ray set cannot
- * hold (2^32 - 1 rays) are refused whatever the cap.
+/* resources.h: the memory policy of the harness's commands: what they
+ * would allocate is estimated before they allocate it and refused above
+ * the memory cap (scenes/memory_cap.h, --memcap MIB) with exit 2 and one
+ * line: what, how many bytes, the cap and where it came from, how to raise
+ * it. Each module sizes what it allocates: a ray set (rayset_bytes), a
+ * trace's answers and a cell's (trace.h), a workload's ray set with
+ * everything alive while it is made and traced (workload_estimate,
+ * whitted_estimate), render's image (render/render.h render_estimate);
+ * from the scene name alone, a generated scene's primitive store
+ * (cli/options.h resources_check_options; the generator itself makes the
+ * exact estimate before generating, scenes/spd.c). Here: the tracing
+ * threads' stacks, --memcap, and the accelerators' own caps. Counts a ray
+ * set cannot hold (2^32 - 1 rays) are refused whatever the cap.
  *
  * The accelerators' own caps: an accelerator parameter named memcap (MiB,
  * accel/common/memcap.h) left at its default is lowered to the harness's
@@ -26,56 +27,16 @@
 #include <stdint.h>
 #include "../../scenes/memory_cap.h"
 #include "../../accel/accel.h"
-#include "rayset.h"
-#include "workload.h"
-
-/* The most rays a ray set holds (its count is a uint32, in memory and in
- * the file). */
-#define RESOURCES_RAYS_MAX UINT32_MAX
-
-/* Heap bytes of a ray set of n rays (with each ray's pixel or not) as
- * rayset_push grows it: its capacity doubles from 4096, so it holds up to
- * twice n. */
-uint64_t resources_rayset_bytes(uint64_t n, bool pixels);
-/* Heap bytes of the answers of n rays (answers_new). */
-uint64_t resources_answers_bytes(uint64_t n, query_kind q, bool per_ray_counters);
-/* The answers alive while a cell traces n rays of query q: the
- * reference's, and the accelerator's beside the timing's scratch. */
-uint64_t resources_cell_answers_bytes(uint64_t n, query_kind q);
 
 typedef struct {
     uint64_t rays;  /* an upper bound on the rays of the set */
     uint64_t bytes; /* and on the bytes alive at once, at the peak */
 } resources_estimate;
 
-/* The ray set of workload `name` ("primary", "shadow", ...) under o for a
- * scene with nlights lights, made and traced in one cell: the larger of
- * what is alive while it is made (the primary rays and the reference's
- * answers it is derived from, the generations of reflection) and while the
- * cell traces it (the set, the reference's answers, the ill-posed count's,
- * the accelerator's and the timing's). Upper bounds: every primary ray is
- * taken to hit, every hit to see every light. */
-resources_estimate resources_workload(const char *name, const workload_opts *o, uint32_t nlights);
-/* 0, or -1 with one line in err: more rays than a set holds, or more bytes
- * than the cap. scene names the scene in the message. */
-int resources_check_workload(const char *name, const char *scene, const workload_opts *o, uint32_t nlights, char *err,
-                             size_t errlen);
-/* A part of the whitted workload: the eye rays (W+1)(H+1); the tree's
- * closest-hit generations at most double where the scene has a
- * transmitter (T > 0: reflection and refraction) and stay as wide where it
- * has none; every hit sees every light. resources_workload("whitted:...")
- * assumes transmitters; the workload itself checks with what the scene
- * has (resources_check_whitted). */
-resources_estimate resources_whitted(const workload_opts *o, uint32_t nlights, bool transmitters, whitted_part part);
-int resources_check_whitted(const char *scene, const workload_opts *o, uint32_t nlights, bool transmitters,
-                            whitted_part part, char *err, size_t errlen);
+static inline uint64_t resources_max(uint64_t a, uint64_t b) { return a > b ? a : b; }
 
-/* render's image of width x height at spp samples (corners: SPD's corner
- * rays): the primary rays, and the image with its sums (Whitted) or the
- * per-ray counters and the per-pixel costs (heat maps). */
-resources_estimate resources_render(int width, int height, int spp, bool corners, bool heatmap);
-int resources_check_render(const char *scene, int width, int height, int spp, bool corners, bool heatmap, char *err,
-                           size_t errlen);
+/* "WxH at S spp" or "WxH corners", for messages. */
+void resources_describe_image(char *buf, size_t len, int w, int h, int spp, bool corners);
 
 /* The address space one thread reserves for its stack (the process's
  * default pthread stack and its guard page). */

@@ -26,7 +26,7 @@ answers_t *answers_new(const rayset_t *rs, bool per_ray_counters)
     /* Covered by the ray set's estimate when a workload made it; checked
      * here too for every other caller (resources.h). No error path: exit 2. */
     char err[512];
-    if (memory_cap_exceeded(resources_answers_bytes(rs->count, rs->query, per_ray_counters), err, sizeof err,
+    if (memory_cap_exceeded(answers_bytes(rs->count, rs->query, per_ray_counters), err, sizeof err,
                             "the answers of %u rays of %s", rs->count, rs->workload)) {
         fflush(stdout);
         fprintf(stderr, "accelbench: %s\n", err);
@@ -223,4 +223,31 @@ double trace_rayset_passes(accel *a, const rayset_t *rs, int threads, int passes
     free(w);
     free(tid);
     return ms;
+}
+
+uint64_t answers_bytes(uint64_t n, query_kind q, bool per_ray_counters)
+{
+    uint64_t each = (q == QUERY_CLOSEST ? sizeof(hit_t) : sizeof(uint8_t)) + (per_ray_counters ? sizeof(counters_t) : 0);
+    return memory_mul(n ? n : 1, each);
+}
+
+/* A cell tracing a set of n rays of query q (measure/measure.c, run/cells.c): the
+ * reference's answers stay for the whole cell; the ill-posed count traces
+ * the set for nearest hits beside them (then frees them), and the
+ * accelerator's warm-up answers and the timing's scratch answers come
+ * after, beside the reference's. */
+uint64_t cell_answers_bytes(uint64_t n, query_kind q)
+{
+    uint64_t ref = answers_bytes(n, q, false), closest = answers_bytes(n, QUERY_CLOSEST, false);
+    return memory_add(ref, resources_max(closest, memory_mul(ref, 2)));
+}
+
+/* The structs a cell allocates beside its arrays (the set's and the
+ * answers' headers, the allocator's own bookkeeping): a few hundred bytes,
+ * rounded up. */
+#define CELL_OVERHEAD_BYTES 4096
+
+uint64_t cell_bytes(uint64_t n, query_kind q, bool pixels)
+{
+    return memory_add(memory_add(rayset_bytes(n, pixels), cell_answers_bytes(n, q)), CELL_OVERHEAD_BYTES);
 }

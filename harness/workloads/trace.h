@@ -55,4 +55,13 @@ double trace_rayset_passes(accel *a, const rayset_t *rs, int threads, int passes
 /* Monotonic clock in milliseconds. */
 double clock_ms(void);
 
+/* Heap bytes of the answers of n rays (answers_new). */
+uint64_t answers_bytes(uint64_t n, query_kind q, bool per_ray_counters);
+/* The answers alive while a cell traces n rays of query q: the
+ * reference's, and the accelerator's beside the timing's scratch. */
+uint64_t cell_answers_bytes(uint64_t n, query_kind q);
+/* A cell tracing a set of n rays of query q: the set, its answers and the
+ * structs beside them. */
+uint64_t cell_bytes(uint64_t n, query_kind q, bool pixels);
+
 #endif

@@ -105,7 +105,7 @@ void workload_refuse(const char *err)
 void workload_require_memory(const char *name, const scene_t *s, const workload_opts *o)
 {
     char err[1024];
-    if (resources_check_workload(name, s->name, o, s->nlights, err, sizeof err)) workload_refuse(err);
+    if (workload_check_memory(name, s->name, o, s->nlights, err, sizeof err)) workload_refuse(err);
 }
 
 static rayset_t *make_primary(const scene_t *s, accel *ref, const workload_opts *o)
@@ -291,4 +291,79 @@ const workload_def *workload_find(const char *name)
     for (int i = 0; workload_table[i].name; i++)
         if (strcmp(workload_table[i].name, name) == 0) return &workload_table[i];
     return NULL;
+}
+
+/* The rays a primary set of o has: W*H*spp, or (W+1)(H+1) corner rays. */
+uint64_t workload_primary_rays(const workload_opts *o)
+{
+    uint64_t w = o->width > 0 ? (uint64_t)o->width : 1, h = o->height > 0 ? (uint64_t)o->height : 1;
+    uint64_t spp = o->spp > 1 ? (uint64_t)o->spp : 1;
+    return o->corners ? (w + 1) * (h + 1) : memory_mul(w * h, spp);
+}
+
+resources_estimate workload_estimate(const char *name, const workload_opts *o, uint32_t nlights)
+{
+    resources_estimate e = {0, 0};
+    uint64_t n = workload_primary_rays(o);
+    /* The derived workloads start from the primary set and the reference's answers for it. */
+    uint64_t base = memory_add(rayset_bytes(n, true), answers_bytes(n, QUERY_CLOSEST, false));
+    if (!strcmp(name, "primary")) {
+        e.rays = n;
+        e.bytes = cell_bytes(n, QUERY_CLOSEST, true);
+    } else if (!strcmp(name, "shadow")) {
+        e.rays = memory_mul(n, nlights ? nlights : 1);
+        uint64_t making = memory_add(base, rayset_bytes(e.rays, true));
+        e.bytes = resources_max(making, cell_bytes(e.rays, QUERY_ANY, true));
+    } else if (!strcmp(name, "reflection")) {
+        /* Every generation is at most the one before; the set keeps them all. */
+        e.rays = memory_mul(n, o->depth > 0 ? (uint64_t)o->depth : WORKLOAD_REFLECTION_DEPTH);
+        uint64_t making = memory_add(memory_add(base, rayset_bytes(n, true)), rayset_bytes(e.rays, true));
+        e.bytes = resources_max(making, cell_bytes(e.rays, QUERY_CLOSEST, true));
+    } else if (!strcmp(name, "diffuse")) {
+        e.rays = n;
+        e.bytes = resources_max(memory_add(base, rayset_bytes(n, true)), cell_bytes(n, QUERY_CLOSEST, true));
+    } else if (!strncmp(name, "whitted:", 8)) {
+        whitted_part part = WHITTED_EYE;
+        while (part < WHITTED_PARTS && strcmp(whitted_part_name[part], name)) part++;
+        e = whitted_estimate(o, nlights, true, part < WHITTED_PARTS ? part : WHITTED_SHADOW);
+    } else { /* random: W*H*spp segments, without pixels (and without corners) */
+        workload_opts plain = *o;
+        plain.corners = false;
+        e.rays = workload_primary_rays(&plain);
+        e.bytes = cell_bytes(e.rays, QUERY_CLOSEST, false);
+    }
+    return e;
+}
+
+/* The estimate e of workload name against the set's limit and the cap. */
+int workload_check_estimate(const char *name, const char *scene, const workload_opts *o, uint32_t nlights,
+                          resources_estimate e, char *err, size_t errlen)
+{
+    char image[96];
+    bool whitted = !strncmp(name, "whitted:", 8);
+    resources_describe_image(image, sizeof image, o->width, o->height, o->spp,
+                   whitted || (o->corners && strcmp(name, "random") != 0));
+    if (e.rays > RAYSET_RAYS_MAX) {
+        snprintf(err, errlen,
+                 "%s on %s: %s makes up to %llu rays, more than a ray set holds (2^32 - 1); lower --res, --spp or "
+                 "--depth", name, scene, image, (unsigned long long)e.rays);
+        return -1;
+    }
+    char lights[48] = "";
+    if (!strcmp(name, "shadow")) snprintf(lights, sizeof lights, ", %u light%s", nlights, nlights == 1 ? "" : "s");
+    if (!strcmp(name, "reflection"))
+        snprintf(lights, sizeof lights, ", depth %d", o->depth > 0 ? o->depth : WORKLOAD_REFLECTION_DEPTH);
+    if (whitted)
+        snprintf(lights, sizeof lights, ", tree depth %d, %u light%s", o->depth > 0 ? o->depth : WORKLOAD_WHITTED_DEPTH,
+                 nlights, nlights == 1 ? "" : "s");
+    if (memory_cap_exceeded(e.bytes, err, errlen, "%s on %s: up to %llu rays (%s%s) and their answers", name, scene,
+                            (unsigned long long)e.rays, image, lights))
+        return -1;
+    return 0;
+}
+
+int workload_check_memory(const char *name, const char *scene, const workload_opts *o, uint32_t nlights, char *err,
+                             size_t errlen)
+{
+    return workload_check_estimate(name, scene, o, nlights, workload_estimate(name, o, nlights), err, errlen);
 }

@@ -25,6 +25,7 @@
 
 #include "../../accel/accel.h"
 #include "rayset.h"
+#include "resources.h"
 #include "trace.h"
 
 typedef struct {
@@ -93,5 +94,32 @@ rayset_t *workload_random(const scene_t *s, const workload_opts *o, char *err, s
 
 /* Secondary rays leave hits through spawn.h (origins, the shadow rule,
  * reflection and refraction), as the renderer's do. */
+
+/* The rays a primary set of o has: W*H*spp, or (W+1)(H+1) corner rays. */
+uint64_t workload_primary_rays(const workload_opts *o);
+/* The ray set of workload `name` ("primary", "shadow", ...) under o for a
+ * scene with nlights lights, made and traced in one cell: the larger of
+ * what is alive while it is made (the primary rays and the reference's
+ * answers it is derived from, the generations of reflection) and while the
+ * cell traces it (the set, the reference's answers, the ill-posed count's,
+ * the accelerator's and the timing's). Upper bounds: every primary ray is
+ * taken to hit, every hit to see every light. */
+resources_estimate workload_estimate(const char *name, const workload_opts *o, uint32_t nlights);
+/* 0, or -1 with one line in err: more rays than a set holds, or more bytes
+ * than the cap. scene names the scene in the message. */
+int workload_check_memory(const char *name, const char *scene, const workload_opts *o, uint32_t nlights, char *err,
+                          size_t errlen);
+/* The estimate e of workload name against the set's limit and the cap (workload_check_memory's check). */
+int workload_check_estimate(const char *name, const char *scene, const workload_opts *o, uint32_t nlights,
+                            resources_estimate e, char *err, size_t errlen);
+/* A part of the whitted workload: the eye rays (W+1)(H+1); the tree's
+ * closest-hit generations at most double where the scene has a
+ * transmitter (T > 0: reflection and refraction) and stay as wide where it
+ * has none; every hit sees every light. workload_estimate("whitted:...")
+ * assumes transmitters; the workload itself checks with what the scene
+ * has (whitted_check_memory). */
+resources_estimate whitted_estimate(const workload_opts *o, uint32_t nlights, bool transmitters, whitted_part part);
+int whitted_check_memory(const char *scene, const workload_opts *o, uint32_t nlights, bool transmitters,
+                         whitted_part part, char *err, size_t errlen);
 
 #endif

@@ -50,7 +50,7 @@ bool workload_empty_by_rule(const workload_def *w, const scene_t *s)
 static void require_memory(const scene_t *s, const workload_opts *o, whitted_part part)
 {
     char err[1024];
-    if (resources_check_whitted(s->name, o, s->nlights, scene_has_transmitter(s), part, err, sizeof err))
+    if (whitted_check_memory(s->name, o, s->nlights, scene_has_transmitter(s), part, err, sizeof err))
         workload_refuse(err);
 }
 
@@ -104,4 +104,38 @@ rayset_t *workload_whitted(const scene_t *s, accel *ref, const workload_opts *o,
     rayset_free(gen);
     rayset_seal(out);
     return out;
+}
+
+resources_estimate whitted_estimate(const workload_opts *o, uint32_t nlights, bool transmitters, whitted_part part)
+{
+    workload_opts eye = *o;
+    eye.corners = true;
+    uint64_t n = workload_primary_rays(&eye), depth = o->depth > 0 ? (uint64_t)o->depth : WORKLOAD_WHITTED_DEPTH;
+    /* Generation g (the eye rays are 1) has at most n b^(g-1) rays, b = 2
+     * where a transmitter can both reflect and refract, else 1; the
+     * secondary rays of each kind at generation g at most the hits of g-1. */
+    uint64_t gen = n, closest = 0, widest = n, secondary = 0;
+    for (uint64_t g = 1; g <= depth; g++) {
+        closest = memory_add(closest, gen);
+        widest = gen > widest ? gen : widest;
+        if (g > 1) secondary = memory_add(secondary, gen / (transmitters ? 2 : 1));
+        gen = transmitters ? memory_mul(gen, 2) : gen;
+    }
+    resources_estimate e;
+    e.rays = part == WHITTED_EYE ? n : part == WHITTED_SHADOW ? memory_mul(closest, nlights ? nlights : 1)
+             : part == WHITTED_REFRACTED && !transmitters ? 0 : secondary;
+    bool any = part == WHITTED_SHADOW;
+    /* Making: two generations and the answers of one alive beside the part being filled. */
+    uint64_t making = memory_add(memory_add(memory_mul(rayset_bytes(widest, true), 2),
+                                            answers_bytes(widest, QUERY_CLOSEST, false)),
+                                 rayset_bytes(e.rays, true));
+    e.bytes = resources_max(making, cell_bytes(e.rays, any ? QUERY_ANY : QUERY_CLOSEST, true));
+    return e;
+}
+
+int whitted_check_memory(const char *scene, const workload_opts *o, uint32_t nlights, bool transmitters,
+                            whitted_part part, char *err, size_t errlen)
+{
+    return workload_check_estimate(whitted_part_name[part], scene, o, nlights, whitted_estimate(o, nlights, transmitters, part),
+                          err, errlen);
 }
