@@ -122,43 +122,29 @@ answers_t *workload_reference_hits(accel *ref, const rayset_t *prim, const workl
     return a;
 }
 
-static rayset_t *make_shadow(const scene_t *s, accel *ref, const workload_opts *o)
-{
-    workload_require_memory("shadow", s, o);
-    rayset_t *prim = workload_primary(s, o);
-    answers_t *a = workload_reference_hits(ref, prim, o);
-    rayset_t *rs = rayset_new("shadow", s->name, o->seed, QUERY_ANY);
-    rs->width = prim->width, rs->height = prim->height, rs->spp = prim->spp;
-    for (uint32_t i = 0; i < prim->count; i++) {
-        if (a->hits[i].prim == HIT_NONE) continue;
-        spawn_t f = spawn_at(s, &prim->rays[i], &a->hits[i]);
-        ray_t r;
-        for (uint32_t l = 0; l < s->nlights; l++)
-            if (spawn_shadow(s, &f, l, &r)) rayset_push(rs, &r, prim->pixel[i]);
-    }
-    answers_free(a);
-    rayset_free(prim);
-    rayset_seal(rs);
-    return rs;
-}
+/* What a secondary workload spawns at one reference hit f of ray i (its
+ * pixel): rays into the set rs and, for a further generation, into next. */
+typedef void (*bounce_fn)(const scene_t *s, const workload_opts *o, const spawn_t *f, uint32_t i, uint32_t pixel,
+                          rayset_t *rs, rayset_t *next);
 
-static rayset_t *make_reflection(const scene_t *s, accel *ref, const workload_opts *o)
+/* A secondary workload: from the primary rays, `depth` generations of the
+ * reference's hits, each hit spawning rays by bounce; the set keeps every
+ * generation's rays in order, each with its primary ray's pixel. */
+static rayset_t *make_bounces(const scene_t *s, accel *ref, const workload_opts *o, const char *name, query_kind q,
+                              int depth, bounce_fn bounce)
 {
-    workload_require_memory("reflection", s, o);
+    workload_require_memory(name, s, o);
     rayset_t *gen = workload_primary(s, o);
-    rayset_t *rs = rayset_new("reflection", s->name, o->seed, QUERY_CLOSEST);
+    rayset_t *rs = rayset_new(name, s->name, o->seed, q);
     rs->width = gen->width, rs->height = gen->height, rs->spp = gen->spp;
-    int depth = o->depth > 0 ? o->depth : WORKLOAD_REFLECTION_DEPTH;
     for (int g = 1; g <= depth && gen->count; g++) {
         answers_t *a = workload_reference_hits(ref, gen, o);
-        rayset_t *next = rayset_new("reflection", s->name, o->seed, QUERY_CLOSEST);
+        rayset_t *next = rayset_new(name, s->name, o->seed, q);
         next->width = gen->width; /* keep pixel tracking on */
         for (uint32_t i = 0; i < gen->count; i++) {
             if (a->hits[i].prim == HIT_NONE) continue;
             spawn_t f = spawn_at(s, &gen->rays[i], &a->hits[i]);
-            ray_t r = spawn_reflect(&f);
-            rayset_push(next, &r, gen->pixel[i]);
-            rayset_push(rs, &r, gen->pixel[i]);
+            bounce(s, o, &f, i, gen->pixel[i], rs, next);
         }
         answers_free(a);
         rayset_free(gen);
@@ -167,6 +153,26 @@ static rayset_t *make_reflection(const scene_t *s, accel *ref, const workload_op
     rayset_free(gen);
     rayset_seal(rs);
     return rs;
+}
+
+/* shadow: a ray to every light on the lit side. */
+static void bounce_shadow(const scene_t *s, const workload_opts *o, const spawn_t *f, uint32_t i, uint32_t pixel,
+                          rayset_t *rs, rayset_t *next)
+{
+    (void)o, (void)i, (void)next;
+    ray_t r;
+    for (uint32_t l = 0; l < s->nlights; l++)
+        if (spawn_shadow(s, f, l, &r)) rayset_push(rs, &r, pixel);
+}
+
+/* reflection: the mirror ray, which the next generation follows. */
+static void bounce_reflection(const scene_t *s, const workload_opts *o, const spawn_t *f, uint32_t i, uint32_t pixel,
+                              rayset_t *rs, rayset_t *next)
+{
+    (void)s, (void)o, (void)i;
+    ray_t r = spawn_reflect(f);
+    rayset_push(next, &r, pixel);
+    rayset_push(rs, &r, pixel);
 }
 
 /* A cosine-distributed direction about n (Malley's method: uniform disk
@@ -180,24 +186,30 @@ static vec3 cosine_dir(vec3 n, float u1, float u2)
     return v3_norm(v3_add(v3_scale(n, z), v3_add(v3_scale(t, r * cosf(phi)), v3_scale(b, r * sinf(phi)))));
 }
 
+/* diffuse: one cosine-distributed ray, drawn from ray i's stream. */
+static void bounce_diffuse(const scene_t *s, const workload_opts *o, const spawn_t *f, uint32_t i, uint32_t pixel,
+                           rayset_t *rs, rayset_t *next)
+{
+    (void)s, (void)next;
+    vec3 d = cosine_dir(f->n, rng_float(o->seed, STREAM_DIFFUSE, i, 0), rng_float(o->seed, STREAM_DIFFUSE, i, 1));
+    ray_t r = {f->org_out, 0.0f, d, INFINITY, RAY_NO_LIGHT, f->prim};
+    rayset_push(rs, &r, pixel);
+}
+
+static rayset_t *make_shadow(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    return make_bounces(s, ref, o, "shadow", QUERY_ANY, 1, bounce_shadow);
+}
+
+static rayset_t *make_reflection(const scene_t *s, accel *ref, const workload_opts *o)
+{
+    int depth = o->depth > 0 ? o->depth : WORKLOAD_REFLECTION_DEPTH;
+    return make_bounces(s, ref, o, "reflection", QUERY_CLOSEST, depth, bounce_reflection);
+}
+
 static rayset_t *make_diffuse(const scene_t *s, accel *ref, const workload_opts *o)
 {
-    workload_require_memory("diffuse", s, o);
-    rayset_t *prim = workload_primary(s, o);
-    answers_t *a = workload_reference_hits(ref, prim, o);
-    rayset_t *rs = rayset_new("diffuse", s->name, o->seed, QUERY_CLOSEST);
-    rs->width = prim->width, rs->height = prim->height, rs->spp = prim->spp;
-    for (uint32_t i = 0; i < prim->count; i++) {
-        if (a->hits[i].prim == HIT_NONE) continue;
-        spawn_t f = spawn_at(s, &prim->rays[i], &a->hits[i]);
-        vec3 d = cosine_dir(f.n, rng_float(o->seed, STREAM_DIFFUSE, i, 0), rng_float(o->seed, STREAM_DIFFUSE, i, 1));
-        ray_t r = {f.org_out, 0.0f, d, INFINITY, RAY_NO_LIGHT, f.prim};
-        rayset_push(rs, &r, prim->pixel[i]);
-    }
-    answers_free(a);
-    rayset_free(prim);
-    rayset_seal(rs);
-    return rs;
+    return make_bounces(s, ref, o, "diffuse", QUERY_CLOSEST, 1, bounce_diffuse);
 }
 
 /* Consecutive zero-length segments after which the box is taken to have no
