@@ -248,7 +248,16 @@ static void add_view(options *o)
     }
 }
 
-int options_parse(options *o, const char *cmd, int argc, char **argv)
+/* The values of the options that are checked together once all are read. */
+typedef struct {
+    const char *accels, *workloads, *shadow; /* --accels (default: all), --workloads, --shadow-accel */
+    const char *params[OPT_LIST_MAX];        /* every --param, in order */
+    int nparams;
+    bool res_given, view_given;
+} option_values;
+
+/* The defaults of every option, the command as typed, and the default accelerators. */
+static void options_defaults(options *o, const char *cmd, int argc, char **argv, option_values *a)
 {
     memset(o, 0, sizeof *o);
     long nproc = sysconf(_SC_NPROCESSORS_ONLN);
@@ -267,177 +276,197 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         if (all_accels[0]) strcat(all_accels, ",");
         strcat(all_accels, accel_registry[i]->name);
     }
-    const char *accels_arg = all_accels, *workloads_arg = NULL, *shadow_arg = NULL;
-    const char *params[OPT_LIST_MAX];
-    int nparams = 0;
-    bool res_given = false, view_given = false;
-    long v;
-    int c;
-    optind = 1;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "hq", long_opts, NULL)) != -1) {
-        switch (c) {
-        case 's': {
-            char *dup = owned_copy(o, optarg);
-            const char *items[OPT_LIST_MAX];
-            int n = split(dup, items, OPT_LIST_MAX, "scenes");
-            if (n < 0) return 2;
-            for (int i = 0; i < n; i++) {
-                /* A set name (set:medium, set:scaling:balls ...) stands for its scenes. */
-                char expanded[4096];
-                int set = scene_set_expand(items[i], expanded, sizeof expanded);
-                if (set < 0) {
-                    fprintf(stderr, "accelbench: --scenes: set '%s' is too long to expand\n", items[i]);
-                    return 2;
-                }
-                const char *one[1] = {items[i]};
-                const char **list = one;
-                const char *parts[OPT_LIST_MAX];
-                int m = 1;
-                if (set == 1) {
-                    m = split(owned_copy(o, expanded), parts, OPT_LIST_MAX, "scenes");
-                    if (m < 0) return 2;
-                    list = parts;
-                }
-                for (int k = 0; k < m; k++) {
-                    /* A scene named twice (itself, or within a set) is one set of cells, measured once. */
-                    bool listed = false;
-                    for (int j = 0; j < o->nscenes && !listed; j++) listed = !strcmp(o->scenes[j], list[k]);
-                    if (listed) continue;
-                    if (o->nscenes == OPT_LIST_MAX) {
-                        fprintf(stderr, "accelbench: too many scenes (at most %d)\n", OPT_LIST_MAX);
-                        return 2;
-                    }
-                    o->scenes[o->nscenes++] = list[k];
-                }
-            }
-            break;
-        }
-        case 'a': accels_arg = optarg; break;
-        case 'w': workloads_arg = optarg; break;
-        case 't': if (parse_long("threads", optarg, 1, 1024, &v)) return 2; o->threads = (int)v; break;
-        case 'n': if (parse_long("repeat", optarg, 1, 1000, &v)) return 2; o->repeat = (int)v; break;
-        case 'p':
-            if (nparams == OPT_LIST_MAX) { fprintf(stderr, "accelbench: too many --param\n"); return 2; }
-            params[nparams++] = optarg;
-            break;
-        case 'r': if (parse_res(optarg, &o->wl)) return 2; res_given = true; break;
-        case 'S': {
-            char *end;
-            errno = 0;
-            unsigned long long s = strtoull(optarg, &end, 10);
-            /* strtoull takes "-1" as 2^64 - 1: a sign is refused, not wrapped */
-            if (errno || end == optarg || *end || strchr(optarg, '-') || strchr(optarg, '+')) { fprintf(stderr, "accelbench: --seed %s: expected an unsigned integer\n", optarg); return 2; }
-            o->wl.seed = s;
-            break;
-        }
-        case 'o': if (check_path("out", optarg)) return 2; o->out = optarg; break;
-        case OPT_SPP: if (parse_long("spp", optarg, 1, 4096, &v)) return 2; o->wl.spp = (int)v; break;
-        case OPT_DEPTH: if (parse_long("depth", optarg, 1, 64, &v)) return 2; o->wl.depth = (int)v; break;
-        case OPT_CORNERS: o->wl.corners = true; break;
-        case OPT_SAVE_RAYS: if (check_path("save-rays", optarg)) return 2; o->save_rays = optarg; break;
-        case OPT_RAYS: if (check_path("rays", optarg)) return 2; o->rays_file = optarg; break;
-        case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
-        case OPT_NO_PLOTS: o->plots = false; break;
-        case OPT_REPORT:
-            if (!option_of(cmd, "run", "--report")) return 2;
-            o->report = true;
-            break;
-        case OPT_HEATMAP_MAX: {
-            char *end;
-            errno = 0;
-            double m = strtod(optarg, &end);
-            if (!option_of(cmd, "render", "--heatmap-max")) return 2;
-            if (errno || end == optarg || *end || !(m > 0.0 && m <= 1e15)) {
-                fprintf(stderr, "accelbench: --heatmap-max %s: expected a number above 0\n", optarg);
-                return 2;
-            }
-            o->heatmap_max = m;
-            break;
-        }
-        case OPT_REDO:
-            if (!option_of(cmd, "run", "--redo")) return 2;
-            o->redo = true;
-            break;
-        case OPT_WARM_PASSES:
-            if (strcmp(cmd, "run") != 0) {
-                fprintf(stderr, "accelbench %s: --warm-passes is an option of run (see accelbench run --help)\n", cmd);
-                return 2;
-            }
-            o->warm_passes = true;
-            break;
-        case OPT_SHARD: {
-            char why[256];
-            if (strcmp(cmd, "run") != 0) {
-                fprintf(stderr, "accelbench %s: --shard is an option of run (see accelbench run --help)\n", cmd);
-                return 2;
-            }
-            if (shard_parse(optarg, &o->shard_k, &o->shard_n, why, sizeof why)) {
-                fprintf(stderr, "accelbench: %s\n", why);
-                return 2;
-            }
-            break;
-        }
-        case OPT_SHADOW_ACCEL:
-            if (!option_of(cmd, "render", "--shadow-accel")) return 2;
-            shadow_arg = optarg;
-            break;
-        case OPT_HEATMAP:
-            if (strcmp(optarg, "tests") && strcmp(optarg, "steps")) {
-                fprintf(stderr, "accelbench: --heatmap %s: expected tests or steps\n", optarg);
-                return 2;
-            }
-            o->heatmap = optarg;
-            break;
-        case OPT_JUDGE_SECONDS: {
-            char *end;
-            errno = 0;
-            double j = strtod(optarg, &end);
-            if (errno || end == optarg || *end || !(j >= 0.0 && j <= 86400.0)) {
-                fprintf(stderr, "accelbench: --judge-seconds %s: expected seconds in 0..86400\n", optarg);
-                return 2;
-            }
-            o->judge_seconds = j;
-            break;
-        }
-        case OPT_MEMCAP: {
-            char why[256];
-            if (resources_parse_memcap(optarg, &o->memcap_mib, why, sizeof why)) {
-                fprintf(stderr, "accelbench: %s\n", why);
-                return 2;
-            }
-            break;
-        }
-        case OPT_VIEW:
-        case OPT_UP:
-        case OPT_LIGHT: {
-            /* --view, --up and --light make one view spec, parsed whole as each is added. */
-            char why[1024];
-            const char *opt = c == OPT_VIEW ? "view" : c == OPT_UP ? "up" : "light";
-            if (c == OPT_VIEW && view_given) {
-                fprintf(stderr, "accelbench: --view given twice (then '%s')\n", optarg);
-                return 2;
-            }
-            view_given |= c == OPT_VIEW;
-            if (scene_view_option(o->view_spec, sizeof o->view_spec, opt, optarg, why, sizeof why) != 0) {
-                fprintf(stderr, "accelbench: %s\n", why);
-                return 2;
-            }
-            o->view = o->view_spec;
-            break;
-        }
-        case 'q': o->quiet = true; break;
-        case 'h': options_usage(stdout, cmd); return 1;
-        default:
-            fprintf(stderr, "accelbench %s: unknown or incomplete option '%s' (see accelbench %s --help)\n", cmd,
-                    argv[optind - 1], cmd);
+    *a = (option_values){.accels = all_accels};
+}
+
+/* --scenes LIST: each scene once, a set's name standing for its scenes. 0, or 2 after printing why. */
+static int add_scenes(options *o, const char *arg)
+{
+    char *dup = owned_copy(o, arg);
+    const char *items[OPT_LIST_MAX];
+    int n = split(dup, items, OPT_LIST_MAX, "scenes");
+    if (n < 0) return 2;
+    for (int i = 0; i < n; i++) {
+        /* A set name (set:medium, set:scaling:balls ...) stands for its scenes. */
+        char expanded[4096];
+        int set = scene_set_expand(items[i], expanded, sizeof expanded);
+        if (set < 0) {
+            fprintf(stderr, "accelbench: --scenes: set '%s' is too long to expand\n", items[i]);
             return 2;
         }
+        const char *one[1] = {items[i]};
+        const char **list = one;
+        const char *parts[OPT_LIST_MAX];
+        int m = 1;
+        if (set == 1) {
+            m = split(owned_copy(o, expanded), parts, OPT_LIST_MAX, "scenes");
+            if (m < 0) return 2;
+            list = parts;
+        }
+        for (int k = 0; k < m; k++) {
+            /* A scene named twice (itself, or within a set) is one set of cells, measured once. */
+            bool listed = false;
+            for (int j = 0; j < o->nscenes && !listed; j++) listed = !strcmp(o->scenes[j], list[k]);
+            if (listed) continue;
+            if (o->nscenes == OPT_LIST_MAX) {
+                fprintf(stderr, "accelbench: too many scenes (at most %d)\n", OPT_LIST_MAX);
+                return 2;
+            }
+            o->scenes[o->nscenes++] = list[k];
+        }
     }
-    if (optind < argc) {
-        fprintf(stderr, "accelbench %s: unexpected argument '%s' (see accelbench %s --help)\n", cmd, argv[optind], cmd);
+    return 0;
+}
+
+/* The options only run or render take. 0, or 2 after printing why. */
+static int read_command_option(options *o, const char *cmd, int c, option_values *a)
+{
+    switch (c) {
+    case OPT_REPORT:
+        if (!option_of(cmd, "run", "--report")) return 2;
+        o->report = true;
+        break;
+    case OPT_HEATMAP_MAX: {
+        char *end;
+        errno = 0;
+        double m = strtod(optarg, &end);
+        if (!option_of(cmd, "render", "--heatmap-max")) return 2;
+        if (errno || end == optarg || *end || !(m > 0.0 && m <= 1e15)) {
+            fprintf(stderr, "accelbench: --heatmap-max %s: expected a number above 0\n", optarg);
+            return 2;
+        }
+        o->heatmap_max = m;
+        break;
+    }
+    case OPT_REDO:
+        if (!option_of(cmd, "run", "--redo")) return 2;
+        o->redo = true;
+        break;
+    case OPT_WARM_PASSES:
+        if (strcmp(cmd, "run") != 0) {
+            fprintf(stderr, "accelbench %s: --warm-passes is an option of run (see accelbench run --help)\n", cmd);
+            return 2;
+        }
+        o->warm_passes = true;
+        break;
+    case OPT_SHARD: {
+        char why[256];
+        if (strcmp(cmd, "run") != 0) {
+            fprintf(stderr, "accelbench %s: --shard is an option of run (see accelbench run --help)\n", cmd);
+            return 2;
+        }
+        if (shard_parse(optarg, &o->shard_k, &o->shard_n, why, sizeof why)) {
+            fprintf(stderr, "accelbench: %s\n", why);
+            return 2;
+        }
+        break;
+    }
+    case OPT_SHADOW_ACCEL:
+        if (!option_of(cmd, "render", "--shadow-accel")) return 2;
+        a->shadow = optarg;
+        break;
+    case OPT_HEATMAP:
+        if (strcmp(optarg, "tests") && strcmp(optarg, "steps")) {
+            fprintf(stderr, "accelbench: --heatmap %s: expected tests or steps\n", optarg);
+            return 2;
+        }
+        o->heatmap = optarg;
+        break;
+    }
+    return 0;
+}
+
+/* One option c (getopt_long's value) into o and a. 0; 1 after printing the
+ * help; 2 after printing why it is refused. */
+static int read_option(options *o, const char *cmd, int c, char **argv, option_values *a)
+{
+    long v;
+    switch (c) {
+    case 's': return add_scenes(o, optarg);
+    case 'a': a->accels = optarg; break;
+    case 'w': a->workloads = optarg; break;
+    case 't': if (parse_long("threads", optarg, 1, 1024, &v)) return 2; o->threads = (int)v; break;
+    case 'n': if (parse_long("repeat", optarg, 1, 1000, &v)) return 2; o->repeat = (int)v; break;
+    case 'p':
+        if (a->nparams == OPT_LIST_MAX) { fprintf(stderr, "accelbench: too many --param\n"); return 2; }
+        a->params[a->nparams++] = optarg;
+        break;
+    case 'r': if (parse_res(optarg, &o->wl)) return 2; a->res_given = true; break;
+    case 'S': {
+        char *end;
+        errno = 0;
+        unsigned long long s = strtoull(optarg, &end, 10);
+        /* strtoull takes "-1" as 2^64 - 1: a sign is refused, not wrapped */
+        if (errno || end == optarg || *end || strchr(optarg, '-') || strchr(optarg, '+')) { fprintf(stderr, "accelbench: --seed %s: expected an unsigned integer\n", optarg); return 2; }
+        o->wl.seed = s;
+        break;
+    }
+    case 'o': if (check_path("out", optarg)) return 2; o->out = optarg; break;
+    case OPT_SPP: if (parse_long("spp", optarg, 1, 4096, &v)) return 2; o->wl.spp = (int)v; break;
+    case OPT_DEPTH: if (parse_long("depth", optarg, 1, 64, &v)) return 2; o->wl.depth = (int)v; break;
+    case OPT_CORNERS: o->wl.corners = true; break;
+    case OPT_SAVE_RAYS: if (check_path("save-rays", optarg)) return 2; o->save_rays = optarg; break;
+    case OPT_RAYS: if (check_path("rays", optarg)) return 2; o->rays_file = optarg; break;
+    case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
+    case OPT_NO_PLOTS: o->plots = false; break;
+    case OPT_REPORT:
+    case OPT_HEATMAP_MAX:
+    case OPT_REDO:
+    case OPT_WARM_PASSES:
+    case OPT_SHARD:
+    case OPT_SHADOW_ACCEL:
+    case OPT_HEATMAP: return read_command_option(o, cmd, c, a);
+    case OPT_JUDGE_SECONDS: {
+        char *end;
+        errno = 0;
+        double j = strtod(optarg, &end);
+        if (errno || end == optarg || *end || !(j >= 0.0 && j <= 86400.0)) {
+            fprintf(stderr, "accelbench: --judge-seconds %s: expected seconds in 0..86400\n", optarg);
+            return 2;
+        }
+        o->judge_seconds = j;
+        break;
+    }
+    case OPT_MEMCAP: {
+        char why[256];
+        if (resources_parse_memcap(optarg, &o->memcap_mib, why, sizeof why)) {
+            fprintf(stderr, "accelbench: %s\n", why);
+            return 2;
+        }
+        break;
+    }
+    case OPT_VIEW:
+    case OPT_UP:
+    case OPT_LIGHT: {
+        /* --view, --up and --light make one view spec, parsed whole as each is added. */
+        char why[1024];
+        const char *opt = c == OPT_VIEW ? "view" : c == OPT_UP ? "up" : "light";
+        if (c == OPT_VIEW && a->view_given) {
+            fprintf(stderr, "accelbench: --view given twice (then '%s')\n", optarg);
+            return 2;
+        }
+        a->view_given |= c == OPT_VIEW;
+        if (scene_view_option(o->view_spec, sizeof o->view_spec, opt, optarg, why, sizeof why) != 0) {
+            fprintf(stderr, "accelbench: %s\n", why);
+            return 2;
+        }
+        o->view = o->view_spec;
+        break;
+    }
+    case 'q': o->quiet = true; break;
+    case 'h': options_usage(stdout, cmd); return 1;
+    default:
+        fprintf(stderr, "accelbench %s: unknown or incomplete option '%s' (see accelbench %s --help)\n", cmd,
+                argv[optind - 1], cmd);
         return 2;
     }
+    return 0;
+}
+
+/* The scenes given: at least one, every name within a scene's, each one
+ * found and its view valid. 0, or 2 after printing why. */
+static int check_scenes(options *o, const char *cmd, const option_values *a)
+{
     if (o->nscenes == 0) {
         fprintf(stderr, "accelbench %s: no scene given (--scenes LIST; see accelbench list scenes)\n", cmd);
         return 2;
@@ -446,7 +475,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         fprintf(stderr, "accelbench render: --heatmap-max sets a heat map's scale: give --heatmap tests|steps too\n");
         return 2;
     }
-    o->res_given = res_given;
+    o->res_given = a->res_given;
     if (o->view) add_view(o);
     for (int i = 0; i < o->nscenes; i++) { /* the name goes uncut into the scene, its ray sets and the CSV */
         size_t n = strlen(o->scenes[i]), most = sizeof ((scene_t *)0)->name - 1;
@@ -465,10 +494,52 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             return 2;
         }
     }
+    return 0;
+}
 
+/* Every --param ACCEL.KEY=VALUE set on the instances of ACCEL. 0, or 2 after printing why. */
+static int apply_params(options *o, const option_values *a)
+{
+    for (int k = 0; k < a->nparams; k++) {
+        char buf[256];
+        if (strlen(a->params[k]) >= sizeof buf) {
+            fprintf(stderr, "accelbench: --param '%.60s...': longer than %zu bytes\n", a->params[k], sizeof buf - 1);
+            return 2;
+        }
+        snprintf(buf, sizeof buf, "%s", a->params[k]);
+        char *dot = strchr(buf, '.'), *eq = strchr(buf, '=');
+        if (!dot || !eq || eq < dot) {
+            fprintf(stderr, "accelbench: --param %s: expected ACCEL.KEY=VALUE\n", a->params[k]);
+            return 2;
+        }
+        *dot = 0;
+        *eq = 0;
+        bool used = false;
+        for (int i = 0; i < o->naccels; i++) {
+            if (strcmp(o->accels[i].ops->name, buf) != 0) continue;
+            char err[256];
+            if (params_set(&o->accels[i].params, dot + 1, eq + 1, err, sizeof err)) {
+                fprintf(stderr, "accelbench: --param %s: %s: %s\n", a->params[k], buf, err);
+                return 2;
+            }
+            used = true;
+        }
+        if (!used) {
+            fprintf(stderr, "accelbench: --param %s: accelerator '%s' is not in --accels\n", a->params[k], buf);
+            return 2;
+        }
+    }
+    return 0;
+}
+
+/* The accelerator instances: --accels expanded, render's shadow
+ * accelerator, --param, their labels, the memory cap and a check build of
+ * each. 0, or 2 after printing why. */
+static int read_accels(options *o, const option_values *a)
+{
     /* Accelerators, then their parameters: instances of NAME[k=v|w,...] expanded (accel_choice.h). */
     char aerr[1024];
-    int na = accel_spec_expand(accels_arg, o->accels, OPT_LIST_MAX - 1, aerr, sizeof aerr);
+    int na = accel_spec_expand(a->accels, o->accels, OPT_LIST_MAX - 1, aerr, sizeof aerr);
     if (na < 0) {
         fprintf(stderr, "accelbench: %s\n", aerr);
         return 2;
@@ -480,10 +551,10 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
     o->naccels = na;
     /* render's shadow accelerator goes after the one --accel names, so that
      * --param and the memory cap reach it like any other. */
-    if (shadow_arg) {
-        const struct accel_ops *ops = accel_find(shadow_arg);
+    if (a->shadow) {
+        const struct accel_ops *ops = accel_find(a->shadow);
         if (!ops) {
-            fprintf(stderr, "accelbench: --shadow-accel: unknown accelerator '%s' (see: accelbench list accels)\n", shadow_arg);
+            fprintf(stderr, "accelbench: --shadow-accel: unknown accelerator '%s' (see: accelbench list accels)\n", a->shadow);
             return 2;
         }
         if (o->heatmap) {
@@ -501,35 +572,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         o->naccels = na + 1;
         o->shadow_accel = true;
     }
-    for (int k = 0; k < nparams; k++) {
-        char buf[256];
-        if (strlen(params[k]) >= sizeof buf) {
-            fprintf(stderr, "accelbench: --param '%.60s...': longer than %zu bytes\n", params[k], sizeof buf - 1);
-            return 2;
-        }
-        snprintf(buf, sizeof buf, "%s", params[k]);
-        char *dot = strchr(buf, '.'), *eq = strchr(buf, '=');
-        if (!dot || !eq || eq < dot) {
-            fprintf(stderr, "accelbench: --param %s: expected ACCEL.KEY=VALUE\n", params[k]);
-            return 2;
-        }
-        *dot = 0;
-        *eq = 0;
-        bool used = false;
-        for (int i = 0; i < o->naccels; i++) {
-            if (strcmp(o->accels[i].ops->name, buf) != 0) continue;
-            char err[256];
-            if (params_set(&o->accels[i].params, dot + 1, eq + 1, err, sizeof err)) {
-                fprintf(stderr, "accelbench: --param %s: %s: %s\n", params[k], buf, err);
-                return 2;
-            }
-            used = true;
-        }
-        if (!used) {
-            fprintf(stderr, "accelbench: --param %s: accelerator '%s' is not in --accels\n", params[k], buf);
-            return 2;
-        }
-    }
+    if (apply_params(o, a)) return 2;
     /* The parameters are written down (params_str, the label: the cell key's words) before the memory cap lowers
      * a default memcap to itself: a limit that only bounds memory does not change what a cell measures, so the
      * same command under another ulimit -v or Slurm --mem finds its cells done. */
@@ -556,16 +599,21 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             return 2;
         }
     }
+    return 0;
+}
 
-    /* Workloads. */
-    if (!workloads_arg) {
+/* The workloads: --workloads (whitted naming its four parts, each once)
+ * or the five classic ones, and --rays' rules. 0, or 2 after printing why. */
+static int read_workloads(options *o, const option_values *a)
+{
+    if (!a->workloads) {
         /* The five classic workloads; whitted is asked for by name (its SPD corner grid and ray tree are a
          * protocol of their own, and its parts are empty on scenes without glass or mirrors). */
         for (int i = 0; workload_table[i].name; i++)
             if (strncmp(workload_table[i].name, "whitted:", 8)) o->workloads[o->nworkloads++] = &workload_table[i];
     } else {
         const char *wn[OPT_LIST_MAX];
-        char *wdup = owned_copy(o, workloads_arg);
+        char *wdup = owned_copy(o, a->workloads);
         int nw = split(wdup, wn, OPT_LIST_MAX, "workloads");
         if (nw < 0) return 2;
         for (int i = 0; i < nw; i++) {
@@ -586,7 +634,7 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
             }
         }
     }
-    if (o->rays_file && workloads_arg) {
+    if (o->rays_file && a->workloads) {
         fprintf(stderr, "accelbench: --rays replays the ray set of its file and --workloads makes new ones: give one "
                         "of them\n");
         return 2;
@@ -595,6 +643,23 @@ int options_parse(options *o, const char *cmd, int argc, char **argv)
         fprintf(stderr, "accelbench: --rays replays one ray set: give exactly one scene\n");
         return 2;
     }
+    return 0;
+}
+
+int options_parse(options *o, const char *cmd, int argc, char **argv)
+{
+    option_values a;
+    options_defaults(o, cmd, argc, argv, &a);
+    int c, rc;
+    optind = 1;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "hq", long_opts, NULL)) != -1)
+        if ((rc = read_option(o, cmd, c, argv, &a))) return rc;
+    if (optind < argc) {
+        fprintf(stderr, "accelbench %s: unexpected argument '%s' (see accelbench %s --help)\n", cmd, argv[optind], cmd);
+        return 2;
+    }
+    if (check_scenes(o, cmd, &a) || read_accels(o, &a) || read_workloads(o, &a)) return 2;
     o->wl.threads = o->threads;
     /* What the options size (threads, ray sets, generated scenes), refused before the first scene loads. */
     if (resources_check_options(o, cmd)) return 2;

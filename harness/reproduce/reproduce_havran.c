@@ -168,15 +168,11 @@ int reproduce_havran(int argc, char **argv)
     havran_run *r = &R;
     memset(r, 0, sizeof *r);
     rp_kit *k = &r->k;
-    k->experiment = "havran";
-    k->scenes = havran_scenes, k->nscenes = HV_SCENES;
-    int rc = rp_parse(k, argc, argv, reproduce_usage);
-    if (rc) return rc == 1 ? 0 : rc;
-    if (k->o.accels) {
-        fprintf(stderr, "accelbench reproduce havran: --accels: Havran's tables name their own structures (--accels is for spd)\n");
-        return 2;
-    }
-    k->timed_threads = k->o.threads; /* nothing here mutates while tracing */
+    int rc;
+    /* Nothing here mutates while tracing: timed on --threads. */
+    if (!rp_begin(k, "havran", havran_scenes, HV_SCENES, 0, argc, argv,
+                  "Havran's tables name their own structures (--accels is for spd)", NULL, &rc))
+        return rc;
     if ((rc = rp_select_scenes(k, r->use))) return rc;
     if ((rc = load_figures(&r->hf))) return rc;
     /* Their 513x513 rays, or 33x33 for --quick. */

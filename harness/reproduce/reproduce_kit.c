@@ -13,6 +13,7 @@
 #include "../run/csv.h"
 #include "../run/output.h"
 #include "markdown.h"
+#include "reproduce.h"
 #include "../workloads/resources.h"
 #include "../../prims/checked_alloc.h"
 #include "../workloads/trace.h"
@@ -108,6 +109,27 @@ int rp_parse(rp_kit *k, int argc, char **argv, void (*usage)(FILE *))
         return 2;
     }
     return 0;
+}
+
+bool rp_begin(rp_kit *k, const char *experiment, const scene_def *scenes, int nscenes, int timed_threads, int argc,
+              char **argv, const char *no_accels, const char *no_scenes, int *rc)
+{
+    k->experiment = experiment;
+    k->scenes = scenes, k->nscenes = nscenes;
+    int parsed = rp_parse(k, argc, argv, reproduce_usage);
+    if (parsed) {
+        *rc = parsed == 1 ? 0 : parsed;
+        return false;
+    }
+    const char *refused = k->o.accels && no_accels ? "--accels" : k->o.scenes && no_scenes ? "--scenes" : NULL;
+    if (refused) {
+        fprintf(stderr, "accelbench reproduce %s: %s: %s\n", experiment, refused,
+                k->o.accels && no_accels ? no_accels : no_scenes);
+        *rc = 2;
+        return false;
+    }
+    k->timed_threads = timed_threads ? timed_threads : k->o.threads;
+    return true;
 }
 
 int rp_select_scenes(const rp_kit *k, bool *use)

@@ -90,6 +90,13 @@ void rp_usage_options(FILE *out);
 /* Parse argv (argv[0] is the experiment's name) into k->o: 0, 1 after
  * printing the help (usage prints it), 2 after a one-line error. */
 int rp_parse(rp_kit *k, int argc, char **argv, void (*usage)(FILE *));
+/* The start every experiment's entry shares: its name and scenes, the
+ * shared options parsed (rp_parse), the threads of its timed traces
+ * (timed_threads, or --threads when 0), and the options it does not take
+ * refused: no_accels, no_scenes say why (NULL: taken). true to go on;
+ * false with the exit status in *rc (0 after --help). */
+bool rp_begin(rp_kit *k, const char *experiment, const scene_def *scenes, int nscenes, int timed_threads, int argc,
+              char **argv, const char *no_accels, const char *no_scenes, int *rc);
 /* Which of k->scenes --scenes names (by the paper's name or the load
  * name) into use[0..nscenes), all when it was not given; 0, or 2 after a
  * one-line error naming the unknown scene and the known ones. */

@@ -311,11 +311,9 @@ int reproduce_spd(int argc, char **argv)
     spd_run *r = &R;
     memset(r, 0, sizeof *r);
     rp_kit *k = &r->k;
-    k->experiment = "spd";
-    k->scenes = spd_scenes, k->nscenes = SPD_SCENES;
-    int rc = rp_parse(k, argc, argv, reproduce_usage);
-    if (rc) return rc == 1 ? 0 : rc;
-    k->timed_threads = k->o.threads; /* an accelerator that mutates is timed on 1 (cell_threads) */
+    int rc;
+    /* An accelerator that mutates is timed on 1 (cell_threads), every other on --threads. */
+    if (!rp_begin(k, "spd", spd_scenes, SPD_SCENES, 0, argc, argv, NULL, NULL, &rc)) return rc;
     if ((rc = rp_select_scenes(k, r->use)) || (rc = parse_accels(r))) return rc;
     r->img = k->o.quick ? 32 : 512;
     if ((rc = load_figures(r, (double)(r->img + 1) * (r->img + 1)))) {

@@ -294,19 +294,11 @@ int reproduce_woo92(int argc, char **argv)
     woo_run *r = &R;
     memset(r, 0, sizeof *r);
     rp_kit *k = &r->k;
-    k->experiment = "woo92";
-    k->scenes = woo92_scenes, k->nscenes = SC_N;
-    k->timed_threads = 1; /* grid-raybox mutates its lists: every timed trace on 1 thread */
-    int rc = rp_parse(k, argc, argv, reproduce_usage);
-    if (rc) return rc == 1 ? 0 : rc;
-    if (k->o.accels) {
-        fprintf(stderr, "accelbench reproduce woo92: --accels: Woo's tables name their own grids (--accels is for spd)\n");
-        return 2;
-    }
-    if (k->o.scenes) {
-        fprintf(stderr, "accelbench reproduce woo92: --scenes: Woo's tables need all four of his scenes\n");
-        return 2;
-    }
+    int rc;
+    /* grid-raybox mutates its lists: every timed trace on 1 thread. */
+    if (!rp_begin(k, "woo92", woo92_scenes, SC_N, 1, argc, argv,
+                  "Woo's tables name their own grids (--accels is for spd)", "Woo's tables need all four of his scenes", &rc))
+        return rc;
     if ((rc = load_figures(&r->woo))) return rc;
     /* Woo's image sizes, or small ones for --quick. */
     r->cf = k->o.quick ? (rp_config){64, 64, 80, 60} : (rp_config){r->woo.t1_w, r->woo.t1_h, r->woo.img_w, r->woo.img_h};

@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#include "../../scenes/compressed.h"
 
 int mkdir_p(const char *path)
 {
@@ -56,13 +57,8 @@ int output_replaceable(const char *path, char *err, size_t errlen)
 {
     struct stat st;
     if (stat(path, &st) != 0 || S_ISREG(st.st_mode)) return 0;
-    const char *what = S_ISDIR(st.st_mode)    ? "a directory"
-                       : S_ISFIFO(st.st_mode) ? "a FIFO"
-                       : S_ISCHR(st.st_mode)  ? "a character device"
-                       : S_ISBLK(st.st_mode)  ? "a block device"
-                       : S_ISSOCK(st.st_mode) ? "a socket"
-                                              : "a special file";
-    snprintf(err, errlen, "%s: is %s, not a regular file: not written (give the path of a file)", path, what);
+    snprintf(err, errlen, "%s: is %s, not a regular file: not written (give the path of a file)", path,
+             file_kind(st.st_mode));
     return -1;
 }
 
