@@ -18,7 +18,7 @@
 #include "options.h"
 #include "render_cmd.h"
 #include "../reproduce/reproduce.h"
-#include "../run/run_outputs.h"
+#include "report_cmd.h"
 #include "scene_cmd.h"
 #include "verify_cmd.h"
 #include "version.h"

@@ -145,7 +145,43 @@ static int write_replacing(const char *path, const char *text, size_t len, char 
 
 enum { OPT_OUT = 300, OPT_NO_PLOTS, OPT_ALLOW_MIXED };
 
-int merge_main(int argc, char **argv)
+/* The columns a row's cell key names too: a row whose column says otherwise is refused. */
+static const char *const keyed[] = {"scene", "accel", "params", "workload", "repeat"};
+#define NKEYED (int)(sizeof keyed / sizeof keyed[0])
+
+/* One merge: its options, the shard folders read, every row filed under its cell. */
+typedef struct {
+    const char *out;
+    bool plots, quiet, allow_mixed;
+    int nd;                     /* shard folders */
+    shard_dir *d;
+    char out_real[PATH_MAX];
+    bool out_exists;
+    char header[CSV_HEADER_MAX + 2];
+    size_t header_len;
+    int ncols, key_col, git_col, keyed_col[NKEYED];
+    shard_manifest *m0;         /* the first folder's manifest, which every other must equal */
+    int ncells;
+    key_ref *keys;              /* the matrix's cell keys, sorted */
+    int *count;                 /* [cell] rows found */
+    const char **row;           /* [cell] its first row, row_len bytes, in folder first_dir */
+    size_t *row_len;
+    int *first_dir;
+    int *shard_seen;            /* [1..N] folders of each shard */
+    char lines[65536];          /* the listing after the summary line */
+    size_t ll;
+    int extra, torn;            /* rows not of the matrix; torn rows dropped */
+    char revs[16][128];         /* the git revisions of the rows, with the folders of each */
+    char rev_dirs[16][1024];
+    int nrevs;
+    char out_dir[PATH_MAX], csv_path[PATH_MAX + 16], info_path[PATH_MAX + 16];
+    char err[8192];
+} merge_job;
+
+#define LIST(...) do { if (j->ll < sizeof j->lines) j->ll += (size_t)snprintf(j->lines + j->ll, sizeof j->lines - j->ll, __VA_ARGS__); } while (0)
+
+/* The options and the folders given. -1 to go on, else the exit status. */
+static int merge_args(merge_job *j, int argc, char **argv)
 {
     static const struct option opts[] = {
         {"out", required_argument, NULL, OPT_OUT},
@@ -155,17 +191,16 @@ int merge_main(int argc, char **argv)
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
-    const char *out = NULL;
-    bool plots = true, quiet = false, allow_mixed = false;
+    j->plots = true;
     int c;
     optind = 1;
     opterr = 0;
     while ((c = getopt_long(argc, argv, "hq", opts, NULL)) != -1) {
         switch (c) {
-        case OPT_OUT: out = optarg; break;
-        case OPT_NO_PLOTS: plots = false; break;
-        case OPT_ALLOW_MIXED: allow_mixed = true; break;
-        case 'q': quiet = true; break;
+        case OPT_OUT: j->out = optarg; break;
+        case OPT_NO_PLOTS: j->plots = false; break;
+        case OPT_ALLOW_MIXED: j->allow_mixed = true; break;
+        case 'q': j->quiet = true; break;
         case 'h': merge_usage(stdout); return 0;
         default:
             fprintf(stderr, "accelbench merge: unknown or incomplete option '%s' (see accelbench merge --help)\n",
@@ -173,270 +208,320 @@ int merge_main(int argc, char **argv)
             return 2;
         }
     }
-    int nd = argc - optind;
-    if (nd < 1 || !out) {
+    j->nd = argc - optind;
+    if (j->nd < 1 || !j->out) {
         fprintf(stderr, "accelbench merge: %s (see accelbench merge --help)\n",
-                nd < 1 ? "no shard folder given" : "no --out DIR given");
+                j->nd < 1 ? "no shard folder given" : "no --out DIR given");
         return 2;
     }
-    if (strlen(out) > OPT_PATH_MAX) { /* refused, never cut */
-        fprintf(stderr, "accelbench merge: --out '%.60s...': a path of %zu bytes, more than %d\n", out, strlen(out),
+    if (strlen(j->out) > OPT_PATH_MAX) { /* refused, never cut */
+        fprintf(stderr, "accelbench merge: --out '%.60s...': a path of %zu bytes, more than %d\n", j->out, strlen(j->out),
                 OPT_PATH_MAX);
         return 2;
     }
-    char out_real[PATH_MAX];
-    bool out_exists = realpath(out, out_real) != NULL;
-    shard_dir *d = calloc((size_t)nd, sizeof *d);
-    if (!d) {
-        fprintf(stderr, "accelbench merge: out of memory\n");
-        return 2;
-    }
-    int status = 0;
-    char err[8192], header[CSV_HEADER_MAX + 2];
-    csv_header(header, sizeof header - 1);
-    size_t header_len = strlen(header);
-    int ncols = csv_columns(), key_col = csv_column_index("cell_key"), git_col = csv_column_index("git_rev");
-    /* The columns a row's cell key names too: a row whose column says otherwise is refused. */
-    static const char *const keyed[] = {"scene", "accel", "params", "workload", "repeat"};
-    int keyed_col[5];
-    for (int k = 0; k < 5; k++) keyed_col[k] = csv_column_index(keyed[k]);
+    return -1;
+}
 
-    /* Every folder: its manifest and its CSV, read whole. */
-    for (int i = 0; i < nd && !status; i++) {
-        d[i].dir = argv[optind + i];
-        if (strlen(d[i].dir) > OPT_PATH_MAX) { /* DIR/matrix.csv and DIR/shard.txt must fit uncut */
-            fprintf(stderr, "accelbench merge: '%.60s...': a folder path of %zu bytes, more than %d\n", d[i].dir,
-                    strlen(d[i].dir), OPT_PATH_MAX);
+/* Every folder: its manifest and its CSV, read whole. 0, or 2 after printing why. */
+static int read_shards(merge_job *j, char **dirs)
+{
+    int status = 0;
+    for (int i = 0; i < j->nd && !status; i++) {
+        j->d[i].dir = dirs[i];
+        if (strlen(j->d[i].dir) > OPT_PATH_MAX) { /* DIR/matrix.csv and DIR/shard.txt must fit uncut */
+            fprintf(stderr, "accelbench merge: '%.60s...': a folder path of %zu bytes, more than %d\n", j->d[i].dir,
+                    strlen(j->d[i].dir), OPT_PATH_MAX);
             status = 2;
             break;
         }
         char real[PATH_MAX], path[PATH_MAX + 32];
-        if (out_exists && realpath(d[i].dir, real) && !strcmp(real, out_real)) {
-            fprintf(stderr, "accelbench merge: --out %s is one of the shard folders; choose another\n", out);
+        if (j->out_exists && realpath(j->d[i].dir, real) && !strcmp(real, j->out_real)) {
+            fprintf(stderr, "accelbench merge: --out %s is one of the shard folders; choose another\n", j->out);
             status = 2;
             break;
         }
-        if (shard_manifest_read(d[i].dir, &d[i].m, err, sizeof err)) {
-            fprintf(stderr, "accelbench merge: %s\n", err);
+        if (shard_manifest_read(j->d[i].dir, &j->d[i].m, j->err, sizeof j->err)) {
+            fprintf(stderr, "accelbench merge: %s\n", j->err);
             status = 2;
             break;
         }
-        snprintf(path, sizeof path, "%s/matrix.csv", d[i].dir);
-        d[i].csv = slurp(path, &d[i].csv_len);
-        if (!d[i].csv) {
+        snprintf(path, sizeof path, "%s/matrix.csv", j->d[i].dir);
+        j->d[i].csv = slurp(path, &j->d[i].csv_len);
+        if (!j->d[i].csv) {
             fprintf(stderr, "accelbench merge: %s: cannot read: %s\n", path, strerror(errno));
             status = 2;
             break;
         }
-        const char *nl = memchr(d[i].csv, '\n', d[i].csv_len);
-        size_t first = nl ? (size_t)(nl - d[i].csv) : d[i].csv_len;
-        if (d[i].csv_len >= 3 && memcmp(d[i].csv, "\xEF\xBB\xBF", 3) == 0) {
+        const char *nl = memchr(j->d[i].csv, '\n', j->d[i].csv_len);
+        size_t first = nl ? (size_t)(nl - j->d[i].csv) : j->d[i].csv_len;
+        if (j->d[i].csv_len >= 3 && memcmp(j->d[i].csv, "\xEF\xBB\xBF", 3) == 0) {
             fprintf(stderr, "accelbench merge: %s: starts with a UTF-8 byte-order mark, which run never writes; remove "
                             "those 3 bytes\n", path);
             status = 2;
             break;
         }
-        if (!nl || first != header_len || memcmp(d[i].csv, header, header_len)) {
+        if (!nl || first != j->header_len || memcmp(j->d[i].csv, j->header, j->header_len)) {
             fprintf(stderr, "accelbench merge: %s: not this version's columns (its header differs from accelbench %s's)\n",
                     path, ACCELBENCH_GIT_REV);
             status = 2;
             break;
         }
-        snprintf(path, sizeof path, "%s/run.txt", d[i].dir);
-        d[i].run_txt = slurp(path, NULL);
+        snprintf(path, sizeof path, "%s/run.txt", j->d[i].dir);
+        j->d[i].run_txt = slurp(path, NULL);
     }
 
-    /* One matrix: the same shard count, options and cells in every manifest. */
-    shard_manifest *m0 = nd ? &d[0].m : NULL;
-    for (int i = 1; i < nd && !status; i++) {
-        shard_manifest *m = &d[i].m;
+    return status;
+}
+
+/* One matrix: the same shard count, options and cells in every manifest. 0, or 2 after printing why. */
+static int check_one_matrix(merge_job *j)
+{
+    int status = 0;
+    j->m0 = j->nd ? &j->d[0].m : NULL;
+    for (int i = 1; i < j->nd && !status; i++) {
+        shard_manifest *m = &j->d[i].m;
         char why[4096] = "";
-        if (m->n != m0->n) snprintf(why, sizeof why, "%s is shard %d/%d, %s is shard %d/%d", d[0].dir, m0->k, m0->n, d[i].dir, m->k, m->n);
-        else if (strcmp(m->options, m0->options)) {
+        if (m->n != j->m0->n) snprintf(why, sizeof why, "%s is shard %d/%d, %s is shard %d/%d", j->d[0].dir, j->m0->k, j->m0->n, j->d[i].dir, m->k, m->n);
+        else if (strcmp(m->options, j->m0->options)) {
             char diff[3000];
-            options_diff(m0->options, m->options, diff, sizeof diff);
-            snprintf(why, sizeof why, "options differ between %s and %s: %s", d[0].dir, d[i].dir, diff);
-        } else if (m->ncells != m0->ncells) snprintf(why, sizeof why, "%s lists %d cells, %s %d", d[0].dir, m0->ncells, d[i].dir, m->ncells);
+            options_diff(j->m0->options, m->options, diff, sizeof diff);
+            snprintf(why, sizeof why, "options differ between %s and %s: %s", j->d[0].dir, j->d[i].dir, diff);
+        } else if (m->ncells != j->m0->ncells) snprintf(why, sizeof why, "%s lists %d cells, %s %d", j->d[0].dir, j->m0->ncells, j->d[i].dir, m->ncells);
         else
             for (int k = 0; k < m->ncells && !why[0]; k++)
-                if (strcmp(m->cells[k].key, m0->cells[k].key) || m->cells[k].shard != m0->cells[k].shard)
-                    snprintf(why, sizeof why, "cell %d differs between %s and %s (another build's split or matrix)", k, d[0].dir, d[i].dir);
+                if (strcmp(m->cells[k].key, j->m0->cells[k].key) || m->cells[k].shard != j->m0->cells[k].shard)
+                    snprintf(why, sizeof why, "cell %d differs between %s and %s (another build's split or matrix)", k, j->d[0].dir, j->d[i].dir);
         if (why[0]) {
             fprintf(stderr, "accelbench merge: the shards are not of one matrix: %s\n", why);
             status = 2;
         }
     }
+    return status;
+}
 
-    /* Every row filed under its cell. */
-    int ncells = m0 && !status ? m0->ncells : 0;
-    key_ref *keys = calloc((size_t)ncells + 1, sizeof *keys);
-    int *count = calloc((size_t)ncells + 1, sizeof *count);
-    const char **row = calloc((size_t)ncells + 1, sizeof *row);
-    size_t *row_len = calloc((size_t)ncells + 1, sizeof *row_len);
-    int *first_dir = calloc((size_t)ncells + 1, sizeof *first_dir);
-    int *shard_seen = calloc((size_t)(m0 ? m0->n : 0) + 1, sizeof *shard_seen);
-    if (!keys || !count || !row || !row_len || !first_dir || !shard_seen) {
+/* One folder's rows, each filed under its cell (the first of a cell is
+ * kept), its revision noted; a torn row is dropped with a warning. 0, or
+ * 2 after printing a row whose columns contradict its cell key. */
+static int file_rows(merge_job *j, int i)
+{
+    int status = 0;
+    j->shard_seen[j->d[i].m.k]++;
+    const char *t = j->d[i].csv;
+    size_t n = j->d[i].csv_len, off = j->header_len + 1, counted = off;
+    csv_span sp[256];
+    int line = 2; /* of the record at off: the line breaks before it counted */
+    while (off < n && !status) {
+        for (; counted < off; counted++) line += j->d[i].csv[counted] == '\n';
+        int nf;
+        bool complete;
+        size_t len = csv_split_record(t + off, n - off, &nf, &complete, sp, 256);
+        if (!complete || nf != j->ncols) {
+            /* A torn last row (a task killed while writing it): its cell is not done. */
+            fprintf(stderr, "accelbench merge: warning: %s/matrix.csv: a torn %s row dropped (%d fields)\n", j->d[i].dir,
+                    off + len < n ? "inner" : "last", nf);
+            j->torn++;
+            off += len ? len : n - off;
+            continue;
+        }
+        char key[CELL_KEY_MAX], rev[128];
+        csv_field(t + off, sp[j->key_col], key, sizeof key);
+        csv_field(t + off, sp[j->git_col], rev, sizeof rev);
+        for (int k = 0; k < NKEYED && !status; k++) {
+            char col[CELL_KEY_MAX], want[CELL_KEY_MAX];
+            csv_field(t + off, sp[j->keyed_col[k]], col, sizeof col);
+            if (cell_key_value(key, keyed[k], want, sizeof want) != 0) continue;
+            /* a value a spreadsheet would run may be written with a leading ' (the CSV documentation) */
+            bool quoted = col[0] == '\'' && want[0] && strchr("=+-@", want[0]) && !strcmp(col + 1, want);
+            if (strcmp(col, want) != 0 && !quoted) {
+                fprintf(stderr, "accelbench merge: %s/matrix.csv: line %d: column %s is '%s' but its cell key says "
+                                "'%s': a row edited by hand? (mend or drop it)\n", j->d[i].dir, line, keyed[k], col,
+                        want);
+                status = 2;
+            }
+        }
+        if (status) break;
+        key_ref probe = {key, 0}, *hit = bsearch(&probe, j->keys, (size_t)j->ncells, sizeof *j->keys, by_key);
+        if (!hit) {
+            if (j->extra++ < 50) LIST("  not of this matrix: %s (in %s)\n", key, j->d[i].dir);
+        } else {
+            int k = hit->index;
+            if (j->count[k]++ == 0) j->row[k] = t + off, j->row_len[k] = len, j->first_dir[k] = i;
+            else if (j->count[k] == 2) LIST("  duplicated: %s (in %s and %s)\n", key, j->d[j->first_dir[k]].dir, j->d[i].dir);
+        }
+        int r = 0;
+        while (r < j->nrevs && strcmp(j->revs[r], rev)) r++;
+        if (r == j->nrevs && j->nrevs < 16) snprintf(j->revs[j->nrevs], sizeof j->revs[0], "%s", rev), j->rev_dirs[j->nrevs++][0] = 0;
+        if (r < j->nrevs && !strstr(j->rev_dirs[r], j->d[i].dir)) {
+            size_t rl = strlen(j->rev_dirs[r]);
+            snprintf(j->rev_dirs[r] + rl, sizeof j->rev_dirs[0] - rl, "%s%s", rl ? ", " : "", j->d[i].dir);
+        }
+        off += len;
+    }
+    return status;
+}
+
+/* Every row of every folder filed under its cell. 0, or 2 after printing why. */
+static int file_all_rows(merge_job *j)
+{
+    int status = 0;
+    j->ncells = j->m0 ? j->m0->ncells : 0;
+    j->keys = calloc((size_t)j->ncells + 1, sizeof *j->keys);
+    j->count = calloc((size_t)j->ncells + 1, sizeof *j->count);
+    j->row = calloc((size_t)j->ncells + 1, sizeof *j->row);
+    j->row_len = calloc((size_t)j->ncells + 1, sizeof *j->row_len);
+    j->first_dir = calloc((size_t)j->ncells + 1, sizeof *j->first_dir);
+    j->shard_seen = calloc((size_t)(j->m0 ? j->m0->n : 0) + 1, sizeof *j->shard_seen);
+    if (!j->keys || !j->count || !j->row || !j->row_len || !j->first_dir || !j->shard_seen) {
         fprintf(stderr, "accelbench merge: out of memory\n");
         status = 2;
     }
-    for (int k = 0; k < ncells && !status; k++) keys[k] = (key_ref){m0->cells[k].key, k};
-    if (!status) qsort(keys, (size_t)ncells, sizeof *keys, by_key);
-    char lines[65536] = "";       /* the listing after the summary line */
-    size_t ll = 0;
-#define LIST(...) do { if (ll < sizeof lines) ll += (size_t)snprintf(lines + ll, sizeof lines - ll, __VA_ARGS__); } while (0)
-    int extra = 0, torn = 0;
-    char revs[16][128];
-    char rev_dirs[16][1024];
-    int nrevs = 0;
-    for (int i = 0; i < nd && !status; i++) {
-        shard_seen[d[i].m.k]++;
-        const char *t = d[i].csv;
-        size_t n = d[i].csv_len, off = header_len + 1, counted = off;
-        csv_span sp[256];
-        int line = 2; /* of the record at off: the line breaks before it counted */
-        while (off < n && !status) {
-            for (; counted < off; counted++) line += d[i].csv[counted] == '\n';
-            int nf;
-            bool complete;
-            size_t len = csv_split_record(t + off, n - off, &nf, &complete, sp, 256);
-            if (!complete || nf != ncols) {
-                /* A torn last row (a task killed while writing it): its cell is not done. */
-                fprintf(stderr, "accelbench merge: warning: %s/matrix.csv: a torn %s row dropped (%d fields)\n", d[i].dir,
-                        off + len < n ? "inner" : "last", nf);
-                torn++;
-                off += len ? len : n - off;
-                continue;
-            }
-            char key[CELL_KEY_MAX], rev[128];
-            csv_field(t + off, sp[key_col], key, sizeof key);
-            csv_field(t + off, sp[git_col], rev, sizeof rev);
-            for (int k = 0; k < 5 && !status; k++) {
-                char col[CELL_KEY_MAX], want[CELL_KEY_MAX];
-                csv_field(t + off, sp[keyed_col[k]], col, sizeof col);
-                if (cell_key_value(key, keyed[k], want, sizeof want) != 0) continue;
-                /* a value a spreadsheet would run may be written with a leading ' (the CSV documentation) */
-                bool quoted = col[0] == '\'' && want[0] && strchr("=+-@", want[0]) && !strcmp(col + 1, want);
-                if (strcmp(col, want) != 0 && !quoted) {
-                    fprintf(stderr, "accelbench merge: %s/matrix.csv: line %d: column %s is '%s' but its cell key says "
-                                    "'%s': a row edited by hand? (mend or drop it)\n", d[i].dir, line, keyed[k], col,
-                            want);
-                    status = 2;
-                }
-            }
-            if (status) break;
-            key_ref probe = {key, 0}, *hit = bsearch(&probe, keys, (size_t)ncells, sizeof *keys, by_key);
-            if (!hit) {
-                if (extra++ < 50) LIST("  not of this matrix: %s (in %s)\n", key, d[i].dir);
-            } else {
-                int k = hit->index;
-                if (count[k]++ == 0) row[k] = t + off, row_len[k] = len, first_dir[k] = i;
-                else if (count[k] == 2) LIST("  duplicated: %s (in %s and %s)\n", key, d[first_dir[k]].dir, d[i].dir);
-            }
-            int r = 0;
-            while (r < nrevs && strcmp(revs[r], rev)) r++;
-            if (r == nrevs && nrevs < 16) snprintf(revs[nrevs], sizeof revs[0], "%s", rev), rev_dirs[nrevs++][0] = 0;
-            if (r < nrevs && !strstr(rev_dirs[r], d[i].dir)) {
-                size_t rl = strlen(rev_dirs[r]);
-                snprintf(rev_dirs[r] + rl, sizeof rev_dirs[0] - rl, "%s%s", rl ? ", " : "", d[i].dir);
-            }
-            off += len;
-        }
-    }
+    for (int k = 0; k < j->ncells && !status; k++) j->keys[k] = (key_ref){j->m0->cells[k].key, k};
+    if (!status) qsort(j->keys, (size_t)j->ncells, sizeof *j->keys, by_key);
+    for (int i = 0; i < j->nd && !status; i++) status = file_rows(j, i);
+    return status;
+}
+
+/* Each cell exactly once, and the revisions one (or --allow-mixed-revisions). 0, or 2 after printing the listing. */
+static int check_cells(merge_job *j)
+{
+    int status = 0;
     int missing = 0, duplicated = 0;
-    for (int k = 0; k < ncells && !status; k++) {
-        duplicated += count[k] > 1;
-        if (count[k] == 0) {
+    for (int k = 0; k < j->ncells && !status; k++) {
+        duplicated += j->count[k] > 1;
+        if (j->count[k] == 0) {
             missing++;
-            if (missing <= 200) LIST("  missing: %s (shard %d/%d%s)\n", m0->cells[k].key, m0->cells[k].shard, m0->n,
-                                     shard_seen[m0->cells[k].shard] ? "" : ", no folder given");
+            if (missing <= 200) LIST("  missing: %s (shard %d/%d%s)\n", j->m0->cells[k].key, j->m0->cells[k].shard, j->m0->n,
+                                     j->shard_seen[j->m0->cells[k].shard] ? "" : ", no folder given");
         }
     }
-    for (int s = 1; m0 && s <= m0->n && !status; s++)
-        if (shard_seen[s] > 1) LIST("  shard %d/%d given %d times\n", s, m0->n, shard_seen[s]);
-    if (!status && (missing || duplicated || extra)) {
+    for (int s = 1; j->m0 && s <= j->m0->n && !status; s++)
+        if (j->shard_seen[s] > 1) LIST("  shard %d/%d given %d times\n", s, j->m0->n, j->shard_seen[s]);
+    if (!status && (missing || duplicated || j->extra)) {
         fprintf(stderr, "accelbench merge: %d of the matrix's %d cells missing, %d duplicated, %d rows not of this matrix "
                         "(from %d folders of %d shards):\n%s",
-                missing, ncells, duplicated, extra, nd, m0->n, lines);
+                missing, j->ncells, duplicated, j->extra, j->nd, j->m0->n, j->lines);
         if (missing > 200) fprintf(stderr, "  ... and %d more missing\n", missing - 200);
         status = 2;
     }
-    if (!status && nrevs > 1) {
-        fprintf(stderr, "accelbench merge: %s: rows of %d git revisions:\n", allow_mixed ? "warning" : "the shards disagree",
-                nrevs);
-        for (int r = 0; r < nrevs; r++) fprintf(stderr, "  %s: %s\n", revs[r], rev_dirs[r]);
-        if (!allow_mixed) {
+    if (!status && j->nrevs > 1) {
+        fprintf(stderr, "accelbench merge: %s: rows of %d git revisions:\n", j->allow_mixed ? "warning" : "the shards disagree",
+                j->nrevs);
+        for (int r = 0; r < j->nrevs; r++) fprintf(stderr, "  %s: %s\n", j->revs[r], j->rev_dirs[r]);
+        if (!j->allow_mixed) {
             fprintf(stderr, "  (run the shards with one build, or --allow-mixed-revisions)\n");
             status = 2;
         }
     }
+    return status;
+}
 
-    /* The merged folder. */
-    char out_dir[PATH_MAX], csv_path[PATH_MAX + 16], info_path[PATH_MAX + 16];
-    if (!status) status = output_folder(out, "", out_dir, sizeof out_dir);
+/* OUT/matrix.csv and OUT/merge.txt, both checked before either is written. 0, or the exit status after printing why. */
+static int write_merged(merge_job *j)
+{
+    int status = 0;
+    if (!status) status = output_folder(j->out, "", j->out_dir, sizeof j->out_dir);
     if (!status) {
         /* Both files checked before either is written: a special file under either name is never replaced. */
-        snprintf(csv_path, sizeof csv_path, "%s/matrix.csv", out_dir);
-        snprintf(info_path, sizeof info_path, "%s/merge.txt", out_dir);
-        if (output_replaceable(csv_path, err, sizeof err) || output_replaceable(info_path, err, sizeof err)) {
-            fprintf(stderr, "accelbench merge: %s\n", err);
+        snprintf(j->csv_path, sizeof j->csv_path, "%s/matrix.csv", j->out_dir);
+        snprintf(j->info_path, sizeof j->info_path, "%s/merge.txt", j->out_dir);
+        if (output_replaceable(j->csv_path, j->err, sizeof j->err) || output_replaceable(j->info_path, j->err, sizeof j->err)) {
+            fprintf(stderr, "accelbench merge: %s\n", j->err);
             status = 2;
         }
     }
     if (!status) {
-        size_t total = header_len + 1;
-        for (int k = 0; k < ncells; k++) total += row_len[k];
+        size_t total = j->header_len + 1;
+        for (int k = 0; k < j->ncells; k++) total += j->row_len[k];
         char *text = malloc(total + 1);
         if (!text) {
             fprintf(stderr, "accelbench merge: out of memory\n");
             status = 2;
         } else {
             size_t n = 0;
-            memcpy(text, header, header_len);
-            n = header_len;
+            memcpy(text, j->header, j->header_len);
+            n = j->header_len;
             text[n++] = '\n';
-            for (int k = 0; k < ncells; k++) memcpy(text + n, row[k], row_len[k]), n += row_len[k];
-            status = write_replacing(csv_path, text, n, err, sizeof err);
-            if (status) fprintf(stderr, "accelbench merge: %s\n", err);
+            for (int k = 0; k < j->ncells; k++) memcpy(text + n, j->row[k], j->row_len[k]), n += j->row_len[k];
+            status = write_replacing(j->csv_path, text, n, j->err, sizeof j->err);
+            if (status) fprintf(stderr, "accelbench merge: %s\n", j->err);
             free(text);
         }
     }
     if (!status) {
-        size_t cap = 4096 + strlen(m0->options);
-        for (int i = 0; i < nd; i++) cap += strlen(d[i].dir) + 64 + (d[i].run_txt ? strlen(d[i].run_txt) : 0);
+        size_t cap = 4096 + strlen(j->m0->options);
+        for (int i = 0; i < j->nd; i++) cap += strlen(j->d[i].dir) + 64 + (j->d[i].run_txt ? strlen(j->d[i].run_txt) : 0);
         char *info = malloc(cap);
         if (!info) {
             fprintf(stderr, "accelbench merge: out of memory\n");
             status = 2;
         } else {
             size_t n = (size_t)snprintf(info, cap, "merged: %d cells of %d shards by accelbench %s (%s)\ngit_rev: %s\noptions: %s\nfolders:",
-                                        ncells, m0->n, ACCELBENCH_GIT_REV, run_id_current(), nrevs ? revs[0] : "",
-                                        m0->options);
-            for (int i = 0; i < nd; i++) n += (size_t)snprintf(info + n, cap - n, " %s (%d/%d)", d[i].dir, d[i].m.k, d[i].m.n);
+                                        j->ncells, j->m0->n, ACCELBENCH_GIT_REV, run_id_current(), j->nrevs ? j->revs[0] : "",
+                                        j->m0->options);
+            for (int i = 0; i < j->nd; i++) n += (size_t)snprintf(info + n, cap - n, " %s (%d/%d)", j->d[i].dir, j->d[i].m.k, j->d[i].m.n);
             n += (size_t)snprintf(info + n, cap - n, "\n");
-            for (int i = 0; i < nd; i++)
-                if (d[i].run_txt) n += (size_t)snprintf(info + n, cap - n, "\n--- %s/run.txt (shard %d/%d)\n%s", d[i].dir, d[i].m.k, d[i].m.n, d[i].run_txt);
-            status = write_replacing(info_path, info, strlen(info), err, sizeof err);
-            if (status) fprintf(stderr, "accelbench merge: %s\n", err);
+            for (int i = 0; i < j->nd; i++)
+                if (j->d[i].run_txt) n += (size_t)snprintf(info + n, cap - n, "\n--- %s/run.txt (shard %d/%d)\n%s", j->d[i].dir, j->d[i].m.k, j->d[i].m.n, j->d[i].run_txt);
+            status = write_replacing(j->info_path, info, strlen(info), j->err, sizeof j->err);
+            if (status) fprintf(stderr, "accelbench merge: %s\n", j->err);
             free(info);
         }
     }
-    if (!status && !quiet)
-        fprintf(stderr, "merged %d cells of %d shards into %s%s\n", ncells, m0->n, csv_path,
-                torn ? " (torn rows dropped: their cells were found in other rows)" : "");
-    /* The plots and the report, as run --report writes them (run_outputs.h). */
-    if (!status && plots && run_dir_outputs(out_dir, quiet)) status = 1;
+    return status;
+}
 
-    for (int i = 0; i < nd; i++) {
-        shard_manifest_free(&d[i].m);
-        free(d[i].csv);
-        free(d[i].run_txt);
+static void merge_job_free(merge_job *j)
+{
+    for (int i = 0; i < j->nd && j->d; i++) {
+        shard_manifest_free(&j->d[i].m);
+        free(j->d[i].csv);
+        free(j->d[i].run_txt);
     }
-    free(d);
-    free(keys);
-    free(count);
-    free(row);
-    free(row_len);
-    free(first_dir);
-    free(shard_seen);
+    free(j->d);
+    free(j->keys);
+    free(j->count);
+    free(j->row);
+    free(j->row_len);
+    free(j->first_dir);
+    free(j->shard_seen);
+    free(j);
+}
+
+int merge_main(int argc, char **argv)
+{
+    merge_job *j = calloc(1, sizeof *j);
+    if (!j) {
+        fprintf(stderr, "accelbench merge: out of memory\n");
+        return 2;
+    }
+    int status = merge_args(j, argc, argv);
+    if (status >= 0) {
+        free(j);
+        return status;
+    }
+    j->out_exists = realpath(j->out, j->out_real) != NULL;
+    j->d = calloc((size_t)j->nd, sizeof *j->d);
+    if (!j->d) {
+        fprintf(stderr, "accelbench merge: out of memory\n");
+        free(j);
+        return 2;
+    }
+    csv_header(j->header, sizeof j->header - 1);
+    j->header_len = strlen(j->header);
+    j->ncols = csv_columns(), j->key_col = csv_column_index("cell_key"), j->git_col = csv_column_index("git_rev");
+    for (int k = 0; k < NKEYED; k++) j->keyed_col[k] = csv_column_index(keyed[k]);
+
+    status = read_shards(j, argv + optind);
+    if (!status) status = check_one_matrix(j);
+    if (!status) status = file_all_rows(j);
+    if (!status) status = check_cells(j);
+    if (!status) status = write_merged(j);
+    if (!status && !j->quiet)
+        fprintf(stderr, "merged %d cells of %d shards into %s%s\n", j->ncells, j->m0->n, j->csv_path,
+                j->torn ? " (torn rows dropped: their cells were found in other rows)" : "");
+    /* The plots and the report, as run --report writes them (run_outputs.h). */
+    if (!status && j->plots && run_dir_outputs(j->out_dir, j->quiet)) status = 1;
+
+    merge_job_free(j);
     return status;
 }

@@ -1,9 +1,9 @@
 /* run_outputs.h: what a run folder gets once its matrix.csv is written: the
- * plots (scripts/plot.py) and the HTML report (scripts/report.py), and the
- * `accelbench report RUN_DIR` subcommand that writes the report alone.
- * `run` (and any command that fills a run folder: merge, shards) ends by
- * calling run_dir_outputs, so every producer of a folder writes the same
- * outputs the same way. */
+ * plots (scripts/plot.py) and the HTML report (scripts/report.py), which
+ * `accelbench report RUN_DIR` (cli/report_cmd.h) writes alone. `run` (and
+ * any command that fills a run folder: merge, shards) ends by calling
+ * run_dir_outputs, so every producer of a folder writes the same outputs
+ * the same way. */
 #ifndef ACCELBENCH_RUN_OUTPUTS_H
 #define ACCELBENCH_RUN_OUTPUTS_H
 
@@ -19,8 +19,5 @@ int run_dir_outputs(const char *dir, bool quiet);
  * maps and images per scene). Returns 0, 1 (the script failed) or 2 (bad
  * input, printed in one line). */
 int report_write(const char *dir, const char *out_html, const char *pictures, bool quiet);
-
-/* accelbench report RUN_DIR [--out FILE.html] [--pictures auto|on|off] [--quiet] */
-int report_main(int argc, char **argv);
 
 #endif
