@@ -52,7 +52,7 @@ int resources_check_options(const options *o, const char *cmd)
         return 0;
     }
     if (!strcmp(cmd, "render")) {
-        /* Without --res the image is the scene's own size, known once it is loaded (render.c checks it then). */
+        /* Without --res the image is the scene's own size, known once it is loaded (cli/render_cmd.c checks it then). */
         if (o->res_given &&
             render_check_memory(o->scenes[0], o->wl.width, o->wl.height, o->wl.spp, o->wl.corners, o->heatmap != NULL,
                                    err, sizeof err))
