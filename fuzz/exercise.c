@@ -8,8 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "../harness/trace.h"
-#include "../harness/workload.h"
+#include "../harness/workloads/trace.h"
+#include "../harness/workloads/workload.h"
 
 static bool skipped(const char *name)
 {

@@ -7,7 +7,7 @@
 #define ACCELBENCH_FUZZ_EXERCISE_H
 
 #include "../accel/accel.h"
-#include "../harness/rayset.h"
+#include "../harness/workloads/rayset.h"
 
 /* The fuzzer stops at 2 GB of memory and at 30 s an input; an
  * accelerator's own cap (the grids' and the octree's memcap, 4096 MiB by

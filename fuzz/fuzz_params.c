@@ -6,12 +6,12 @@
  * (a memory cap above FUZZ_MEMCAP_MIB lowered to it: exercise.h), over the fixed
  * scene, and traced (exercise.c) with the scene's primary and random rays.
  * A line "--accels LIST" goes to the --accels parser instead
- * (harness/accel_spec.c, sweeps included): it must stay inside the array it
+ * (harness/measure/accel_choice.c, sweeps included): it must stay inside the array it
  * is given and label every instance it returns. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "../harness/accel_spec.h"
+#include "../harness/measure/accel_choice.h"
 #include "exercise.h"
 
 int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size);

@@ -1,4 +1,4 @@
-/* fuzz_rays: the ray-file loader (harness/rayset.c) on any bytes, twice:
+/* fuzz_rays: the ray-file loader (harness/workloads/rayset.c) on any bytes, twice:
  * as given (almost always refused by the hash, which a fuzzer cannot
  * forge) and with the hash restamped over the bytes, so the header and ray
  * checks behind it see the mutations. A set it accepts is checked against

@@ -238,7 +238,7 @@ vec3 offset_ray_origin(vec3 p, vec3 err, vec3 n);
 /* Double-precision test of one primitive: the nearest t in
  * [ray->tnear, ray->tfar) or returns false. An independent check for the
  * primitive tests' own tests; verify's judge of disputed rays is exact
- * (harness/judge.h). */
+ * (harness/measure/judge.h). */
 bool prim_intersect_double(const prims_t *p, uint32_t id, const ray_t *ray, double *t);
 /* How close the point at distance t on the ray is to the boundary of the
  * primitive, in world units: for a triangle or polygon the distance to its

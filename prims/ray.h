@@ -44,7 +44,7 @@ static_assert(sizeof(ray_t) == 40, "ray_t is 40 bytes; the ray file format depen
 /* Whether a ray may reach an accelerator: finite origin and direction with
  * components of magnitude at most RAY_COORD_MAX, a nonzero direction, and
  * 0 <= tnear <= tfar with tnear finite (tfar may be +inf). The harness
- * answers any other ray "miss" itself (harness/trace.c), so no accelerator
+ * answers any other ray "miss" itself (harness/workloads/trace.c), so no accelerator
  * needs its own check. */
 static inline bool ray_traceable(const ray_t *r)
 {

@@ -136,8 +136,7 @@ bool compressed_exists(const char *path)
     return stat(file, &st) == 0;
 }
 
-/* A file type other than a regular file, in words. */
-static const char *file_kind(mode_t mode)
+const char *file_kind(mode_t mode)
 {
     if (S_ISDIR(mode)) return "a directory";
     if (S_ISFIFO(mode)) return "a FIFO (named pipe)";

@@ -16,6 +16,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <sys/stat.h>
 
 typedef struct {
     char *data;      /* malloc'd; data[size] == '\0' so text parsers can stop there */
@@ -49,5 +50,9 @@ bool compressed_exists(const char *path);
 /* The lower-case extension of a file name without the dot ("off"), or ""
  * when there is none. Writes at most extlen-1 characters. */
 void compressed_extension(const char *name, char *ext, size_t extlen);
+
+/* A file type other than a regular file, in words ("a FIFO (named pipe)"),
+ * for the messages that refuse one. */
+const char *file_kind(mode_t mode);
 
 #endif

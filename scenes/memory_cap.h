@@ -4,7 +4,7 @@
  * and refused above this cap with exit 2 and one line (what, how many
  * bytes, the cap and where it came from, how to raise it): a generated
  * scene's primitive store (scenes/spd.c, before generating), ray sets and
- * the answers traced for them, images, thread stacks (harness/resources.h).
+ * the answers traced for them, images, thread stacks (harness/workloads/resources.h).
  * A failed allocation behind an estimate is the checked allocator's exit 2
  * (prims/checked_alloc.h). The cap lives here, in the scenes library,
  * because the SPD generators are its lowest user; the harness sets it from
@@ -22,7 +22,7 @@
  * is the largest share one of them can take and still leave room for the
  * others (which the checked allocator still guards). The accelerators'
  * own caps (accel/common/memcap.h, their `memcap` parameter) are bounded
- * by it as well (harness/resources.h resources_apply_memcap).
+ * by it as well (harness/workloads/resources.h resources_apply_memcap).
  *
  * Not thread-safe to set; set it once when a command starts. */
 #ifndef ACCELBENCH_MEMORY_CAP_H

@@ -26,7 +26,7 @@
  * Rays that are not traceable (NaN or infinite components, components
  * beyond 2^60, a zero direction, tnear > tfar) are answered "miss" by the
  * harness and never reach an accelerator (prims/ray.h ray_traceable,
- * harness/trace.c): checked here for every accelerator through
+ * harness/workloads/trace.c): checked here for every accelerator through
  * trace_rayset.
  *
  * Watertightness is asserted for the accelerators that test through prims/

@@ -118,7 +118,7 @@ grep -q "skipped lightbuf x diffuse: lightbuf answers only shadow (any-hit) rays
 
 # --- --help names every command the dispatcher takes and every reproduce experiment
 "$AB" --help > "$T/help" 2>&1
-for cmd in $(grep -oE 'strcmp\(cmd, "[a-z-]+"\)' "$SRC/harness/main.c" | sed 's/.*"\(.*\)".*/\1/' | grep -v -- '^--'); do
+for cmd in $(grep -oE 'strcmp\(cmd, "[a-z-]+"\)' "$SRC/harness/cli/main.c" | sed 's/.*"\(.*\)".*/\1/' | grep -v -- '^--'); do
     grep -qE "^  $cmd( |$)" "$T/help" && ok || bad "accelbench --help does not list the command $cmd"
 done
 known=$("$AB" reproduce nosuch 2>&1 | sed -n 's/.*(known: \([^;]*\);.*/\1/p')

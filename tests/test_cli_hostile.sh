@@ -44,7 +44,7 @@ out=$("$AB" "${RUN[@]}" --quiet --out "$T/plotfail" 2>&1); rc=$?
 # --- outputs that are not regular files: refused with one line, left in place
 mkfifo "$T/fifo" && mkdir "$T/dir" || bad "mkfifo"
 R="$T/run q'uote"
-refused "--out $T/fifo: is a FIFO, not a regular file" -- timeout 60 "$AB" report "$R" --out "$T/fifo"
+refused "--out $T/fifo: is a FIFO \(named pipe\), not a regular file" -- timeout 60 "$AB" report "$R" --out "$T/fifo"
 refused "--out $T/dir: is a directory, not a regular file" -- timeout 60 "$AB" report "$R" --out "$T/dir"
 refused "$T/fifo: is a FIFO" -- timeout 60 "$PY" "$SRCDIR/scripts/report.py" "$R" --out "$T/fifo" --pictures off
 refused "--save-rays $T/fifo: is a FIFO" -- timeout 60 "$AB" "${RUN[@]}" --no-plots --out "$T/sr" --save-rays "$T/fifo"

@@ -1,15 +1,15 @@
 /* test_csv.c: the results CSV's identity columns and its file on disk
  * (resumable runs):
- *  - cell keys (harness/cellkey.h): every option that shapes a cell's rays
+ *  - cell keys (harness/run/cellkey.h): every option that shapes a cell's rays
  *    or timing changes the key, the ray-set form names the rays' hash,
  *    escaping keeps one reading, a key that does not fit is refused;
  *  - run ids: one per process, time-sortable;
- *  - rows (harness/csv.h): the header's run_id and cell_key columns, a row
+ *  - rows (harness/run/csv.h): the header's run_id and cell_key columns, a row
  *    split back into exactly the header's fields (quoted commas, quotes and
  *    line breaks), a row of no rays with its measured columns empty, the
  *    predicted_*_per_ray columns beside the measured counters filled from
  *    the statistics of those names (empty without them, no stat_ twin);
- *  - the store (harness/resume.h): a new file gets its header, rows are
+ *  - the store (harness/run/resume.h): a new file gets its header, rows are
  *    found by key after reopening, a torn last row (no line break; too few
  *    fields) is dropped, a cut header is rewritten, a malformed earlier row
  *    or another header is refused (status 2), a row of a known key replaces
@@ -26,9 +26,9 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#include "harness/cellkey.h"
-#include "harness/csv.h"
-#include "harness/resume.h"
+#include "harness/run/cellkey.h"
+#include "harness/run/csv.h"
+#include "harness/run/resume.h"
 #include "check.h"
 
 /* ------------------------------------------------------------ cell keys */

@@ -16,7 +16,7 @@
  * scene's (each with a floor below which noise decides: DUP_TIME_FLOOR_MS,
  * DUP_MEM_FLOOR, DUP_RSS_FLOOR). Answers: on the primary, shadow and random
  * workloads, hit or miss as exhaustive says on every ray, and verify's rule
- * (harness/verify.h: any primitive at the same t, coincident copies being
+ * (harness/measure/verify.h: any primitive at the same t, coincident copies being
  * equally right) with no real mismatch.
  *
  * Every build runs in a child process watched by the parent, which kills it

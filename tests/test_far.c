@@ -11,7 +11,7 @@
  *   - build, in memory within MEM_FACTOR of its build at the origin
  *     (memory(), plus a small allowance for fixed-size tables), and
  *   - answer every workload's rays as exhaustive does on the same float
- *     data: the same hit or miss, t within harness/verify.h's agreement
+ *     data: the same hit or miss, t within harness/measure/verify.h's agreement
  *     rule (1e-4 max(1, |t|)), for the accelerators that test through
  *     prims/ (exhaustive's own test); Embree's and CGAL's own tests are
  *     held to verify's classes (no real mismatch).

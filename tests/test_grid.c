@@ -10,7 +10,7 @@
  * still agree. */
 #include <string.h>
 #include "accel/grid_woo.h"
-#include "harness/verify.h"
+#include "harness/measure/verify.h"
 #include "testlib.h"
 
 /* Build NAME with its defaults overridden by "k=v,k=v". */

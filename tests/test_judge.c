@@ -1,4 +1,4 @@
-/* test_judge: the exact judge of disputed rays (harness/judge.h).
+/* test_judge: the exact judge of disputed rays (harness/measure/judge.h).
  *
  * (1) hand-computed answers on tiny scenes: rational and irrational t, the
  *     exact text, vertices, edges, one float step outside, rays in the
@@ -18,8 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "harness/judge.h"
-#include "harness/rng.h"
+#include "harness/measure/judge.h"
+#include "harness/workloads/rng.h"
 #include "testlib.h"
 
 static scene_t *finish(scene_t *s)

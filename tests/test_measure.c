@@ -1,18 +1,22 @@
 /* test_measure.c: the measuring kit of run and reproduce: the trace paths
  * (trace.c), paired timing with resets and lazy build times (timing.c),
+ * the threads a cell of a serial accelerator traces on (measure.c),
  * the CSV's fixed columns (csv.c), a paper's figures file (figures.c) and
- * report Markdown (report.c). A fake accelerator counts what the harness
+ * report Markdown (markdown.c). A fake accelerator counts what the harness
  * calls, so the tests check the calls, not timings. */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
-#include "harness/csv.h"
-#include "harness/figures.h"
-#include "harness/report.h"
-#include "harness/timing.h"
-#include "harness/trace.h"
+#include "harness/run/csv.h"
+#include "harness/measure/measure.h"
+#include "harness/run/cell_row.h"
+#include "harness/reproduce/figures.h"
+#include "harness/reproduce/markdown.h"
+#include "harness/measure/timing.h"
+#include "harness/workloads/trace.h"
 
 /* ------------------------------------------------------------ a fake accelerator */
 
@@ -87,6 +91,37 @@ static const struct accel_ops fake_v1 = {
     .version = 1, .name = "fake1", .summary = "counts calls", .paper = "-", .params = no_params,
     .build = fake_build, .intersect = fake_intersect, .occluded = fake_occluded,
     .memory = fake_memory, .destroy = fake_destroy,
+};
+
+/* An accelerator whose answers depend on the order of its rays
+ * (order_dependent) though its table does not say ACCEL_MUTATES: every
+ * trace of it must run on one thread. od_threads counts the threads its
+ * counting method was called on. */
+static pthread_mutex_t od_lock = PTHREAD_MUTEX_INITIALIZER;
+static pthread_t od_first;
+static int od_threads;
+
+static bool od_intersect(accel *a, accel_ctx *ctx, const ray_t *r, hit_t *h, counters_t *c)
+{
+    (void)a, (void)ctx, (void)r, (void)h, (void)c;
+    pthread_mutex_lock(&od_lock);
+    if (od_threads == 0) od_first = pthread_self(), od_threads = 1;
+    else if (!pthread_equal(od_first, pthread_self())) od_threads = 2;
+    pthread_mutex_unlock(&od_lock);
+    return false;
+}
+static bool od_yes(const accel *a) { (void)a; return true; }
+static bool od_no(const accel *a) { (void)a; return false; }
+
+static const struct accel_ops fake_od = {
+    .version = 2, .name = "fake-od", .summary = "order-dependent", .paper = "-", .params = no_params,
+    .build = fake_build, .intersect = od_intersect, .occluded = fake_occluded, .memory = fake_memory,
+    .destroy = fake_destroy, .order_dependent = od_yes,
+};
+static const struct accel_ops fake_free_order = {
+    .version = 2, .name = "fake-free", .summary = "order-free", .paper = "-", .params = no_params,
+    .build = fake_build, .intersect = od_intersect, .occluded = fake_occluded, .memory = fake_memory,
+    .destroy = fake_destroy, .order_dependent = od_no,
 };
 
 static fake *fake_new(const struct accel_ops *ops, const scene_t *s)
@@ -187,6 +222,39 @@ static void test_pairs(const scene_t *s)
     rayset_free(rs);
 }
 
+/* One rule for a serial cell: measure_cell traces an order-dependent
+ * instance (warm-up and timed passes) on one thread whatever is asked, and
+ * its row says threads 1, serial; an order-free one gets the threads asked. */
+static void test_serial_cell(const scene_t *s)
+{
+    fake *ref = fake_new(&fake_v1, s);
+    verifier_t *ver = verifier_new(s, 0);
+    machine_info mi = {0};
+    row_settings st = {.cell = {.threads = 4, .repeat = 1}, .mi = &mi};
+    for (int od = 1; od >= 0; od--) {
+        cell_rays c;
+        cell_rays_init(&c, s, &ref->base, ver, some_rays(QUERY_CLOSEST, 4096), st.cell.threads);
+        accel_config ac = {.ops = od ? &fake_od : &fake_free_order};
+        params_defaults(&ac.params, ac.ops->params);
+        snprintf(ac.label, sizeof ac.label, "%s", ac.ops->name);
+        od_threads = 0;
+        cell_measurement m;
+        CHECK(measure_cell(&c, &ac, &st.cell, &m) == 0);
+        csv_row row;
+        CHECK(cell_row(&c, &ac, &st, &m, &row) == 0);
+        if (od) {
+            CHECK_MSG(od_threads == 1, "an order-dependent accelerator traced on %d threads", od_threads);
+            CHECK(m.threads == 1 && row.threads == 1 && row.serial);
+        } else {
+            CHECK(od_threads >= 1);
+            CHECK(m.threads == 4 && row.threads == 4 && !row.serial);
+        }
+        cell_rays_release(&c);
+    }
+    verifier_free(ver);
+    ref->base.ops->destroy(&ref->base);
+}
+
 static void test_csv_header(void)
 {
     char h[CSV_HEADER_MAX];
@@ -261,14 +329,14 @@ static void test_report(void)
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
-    report_heading(f, 2, "Table %d", 1);
-    report_table(f, "Name|Time ms:|%Saved:");
-    report_row(f, "%s|%.1f|%d%%", "old", 12.34, 5);
-    report_end(f);
-    report_bullet(f, 1, "b%d", 2);
-    report_finding(f, "it is %s.", "faster");
-    report_para(f, "end");
-    report_section(f, "Ablation", "from %s", "old");
+    md_heading(f, 2, "Table %d", 1);
+    md_table(f, "Name|Time ms:|%Saved:");
+    md_row(f, "%s|%.1f|%d%%", "old", 12.34, 5);
+    md_end(f);
+    md_bullet(f, 1, "b%d", 2);
+    md_finding(f, "it is %s.", "faster");
+    md_para(f, "end");
+    md_section(f, "Ablation", "from %s", "old");
     fclose(f);
     const char *want = "## Table 1\n\n"
                        "| Name | Time ms | %Saved |\n|---|---:|---:|\n"
@@ -291,6 +359,7 @@ int main(void)
     }
     test_trace_paths(s);
     test_pairs(s);
+    test_serial_cell(s);
     test_csv_header();
     test_figures();
     test_report();

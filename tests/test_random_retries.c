@@ -1,5 +1,5 @@
 /* test_random_retries: the random workload redraws a zero-length segment a
- * bounded number of times (harness/workload.h workload_random): on a scene
+ * bounded number of times (harness/workloads/workload.h workload_random): on a scene
  * whose box is a point it fails with the reason instead of looping forever
  * (the issue's hang), while a box one float step wide, where about half the
  * draws are zero-length, still gives every ray. */

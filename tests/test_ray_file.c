@@ -1,4 +1,4 @@
-/* test_ray_file: what the ray file loader refuses (harness/rayset.h), each
+/* test_ray_file: what the ray file loader refuses (harness/workloads/rayset.h), each
  * with one line naming the file and the ray or field:
  *  - any change to a header field the old format did not hash (width,
  *    seed, the scene name), and a file of the old format;

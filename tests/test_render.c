@@ -3,7 +3,7 @@
  * picture is not blank, and a PNG is written. */
 #include <string.h>
 #include <unistd.h>
-#include "harness/render.h"
+#include "harness/render/render.h"
 #include "testlib.h"
 
 static void compare(const char *scene_name, int res)

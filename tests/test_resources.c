@@ -1,5 +1,5 @@
 /* test_resources: the memory cap and the estimates checked against it
- * (scenes/memory_cap.h, harness/resources.h, prims/checked_alloc.h).
+ * (scenes/memory_cap.h, harness/workloads/resources.h, prims/checked_alloc.h).
  *  - the cap's default from made-up limits (physical memory, RLIMIT_AS and
  *    RLIMIT_DATA less their use, a cgroup's limit less its use: the
  *    smallest, halved), from this process's real RLIMIT_AS lowered for the
@@ -23,7 +23,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "testlib.h"
-#include "harness/resources.h"
+#include "harness/cli/options.h"
+#include "harness/render/render.h"
+#include "harness/workloads/resources.h"
 #include "prims/checked_alloc.h"
 #include "scenes/memory_cap.h"
 #include "scenes/spd.h"
@@ -214,7 +216,7 @@ static void test_workload_estimates(void)
     for (int w = 0; workload_table[w].name; w++) {
         const char *name = workload_table[w].name;
         workload_opts o = test_wl(96, 80, 1);
-        resources_estimate e = resources_workload(name, &o, s->nlights);
+        resources_estimate e = workload_estimate(name, &o, s->nlights);
         /* One cell: the set, the reference's answers, the ill-posed count's
          * nearest hits, then the warm-up's and the timing's answers. */
         uint64_t before = heap_in_use();
@@ -242,26 +244,26 @@ static void test_workload_estimates(void)
     }
     /* Shadow rays grow with the lights, reflections with the depth. */
     workload_opts o = test_wl(64, 64, 1);
-    CHECK(resources_workload("shadow", &o, 4).rays == 4 * resources_workload("shadow", &o, 1).rays);
+    CHECK(workload_estimate("shadow", &o, 4).rays == 4 * workload_estimate("shadow", &o, 1).rays);
     o.depth = 6;
-    CHECK(resources_workload("reflection", &o, 1).rays == 6 * 64 * 64);
+    CHECK(workload_estimate("reflection", &o, 1).rays == 6 * 64 * 64);
     o.corners = true;
-    CHECK(resources_workload("primary", &o, 1).rays == 65 * 65);
-    CHECK(resources_workload("random", &o, 1).rays == 64 * 64); /* random has no corners */
+    CHECK(workload_estimate("primary", &o, 1).rays == 65 * 65);
+    CHECK(workload_estimate("random", &o, 1).rays == 64 * 64); /* random has no corners */
     /* --res 16384x16384: 2^28 rays and their answers, over 20 GiB. */
     o = test_wl(16384, 16384, 1);
-    resources_estimate big = resources_workload("primary", &o, 1);
+    resources_estimate big = workload_estimate("primary", &o, 1);
     CHECK(big.rays == 1ull << 28 && big.bytes >= (1ull << 28) * (sizeof(ray_t) + 4 + 3 * sizeof(hit_t)));
     memory_cap_set_mib(1024);
-    CHECK(resources_check_workload("primary", "spd:balls:1", &o, 1, err, sizeof err) != 0);
+    CHECK(workload_check_memory("primary", "spd:balls:1", &o, 1, err, sizeof err) != 0);
     CHECK_MSG(strstr(err, "primary on spd:balls:1: up to 268435456 rays (16384x16384 at 1 spp)") &&
                   strstr(err, "memory cap of 1024 MiB"), "%s", err);
     /* More rays than a set holds is refused whatever the cap. */
     memory_cap_set_mib(MEMORY_CAP_MIB_MAX);
     o.spp = 16;
-    CHECK(resources_check_workload("primary", "x", &o, 1, err, sizeof err) != 0 && strstr(err, "2^32 - 1"));
+    CHECK(workload_check_memory("primary", "x", &o, 1, err, sizeof err) != 0 && strstr(err, "2^32 - 1"));
     o.spp = 15;
-    CHECK(resources_check_workload("primary", "x", &o, 1, err, sizeof err) == 0);
+    CHECK(workload_check_memory("primary", "x", &o, 1, err, sizeof err) == 0);
     ref->ops->destroy(ref);
     scene_free(s);
 }
@@ -269,13 +271,13 @@ static void test_workload_estimates(void)
 static void test_render_threads_files(void)
 {
     /* render: the primary rays and the image with its colour sums or costs. */
-    resources_estimate e = resources_render(16384, 16384, 1, false, false);
+    resources_estimate e = render_estimate(16384, 16384, 1, false, false);
     CHECK(e.rays == 1ull << 28 && e.bytes >= (1ull << 28) * (sizeof(ray_t) + 4 + sizeof(vec3) + 3));
-    CHECK(resources_render(100, 50, 4, false, true).bytes > resources_render(100, 50, 4, false, false).bytes);
+    CHECK(render_estimate(100, 50, 4, false, true).bytes > render_estimate(100, 50, 4, false, false).bytes);
     memory_cap_set_mib(256);
-    CHECK(resources_check_render("x.nff", 16384, 16384, 1, false, false, err, sizeof err) != 0);
+    CHECK(render_check_memory("x.nff", 16384, 16384, 1, false, false, err, sizeof err) != 0);
     CHECK_MSG(strstr(err, "render x.nff: a 16384x16384 at 1 spp image") && strstr(err, "memory cap of 256 MiB"), "%s", err);
-    CHECK(resources_check_render("x.nff", 512, 512, 1, false, false, err, sizeof err) == 0);
+    CHECK(render_check_memory("x.nff", 512, 512, 1, false, false, err, sizeof err) == 0);
 
     /* Threads: one default stack (and guard) each. */
     pthread_attr_t a;

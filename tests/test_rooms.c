@@ -20,10 +20,10 @@
  *    render with shadow tests equals its render without them, pixel for
  *    pixel (no self-shadowed pixel). */
 #include <string.h>
-#include "harness/image.h"
-#include "harness/render.h"
-#include "harness/spawn.h"
-#include "harness/verify.h"
+#include "harness/render/image.h"
+#include "harness/render/render.h"
+#include "harness/workloads/spawn.h"
+#include "harness/measure/verify.h"
 #include "testlib.h"
 #include "require_meshes.h"
 

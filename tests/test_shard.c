@@ -1,4 +1,4 @@
-/* test_shard.c: the shard split (harness/shard.h):
+/* test_shard.c: the shard split (harness/run/shard.h):
  *  - on a matrix of 36 cells (3 scenes x 4 accelerators x 3 workloads, costs
  *    from shard_cell_cost over primitives and rays that differ by orders of
  *    magnitude), for N = 1..7: every cell in exactly one shard, the loads the
@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "harness/shard.h"
+#include "harness/run/shard.h"
 #include "check.h"
 
 static void check_split(const double *cost, int ncells, int n)

@@ -2,7 +2,7 @@
  * what it should. A test accelerator that silently skips every 5th
  * primitive must show real mismatches on every workload that hits. */
 #include <string.h>
-#include "harness/verify.h"
+#include "harness/measure/verify.h"
 #include "testlib.h"
 
 static bool skip_intersect(accel *a, accel_ctx *ctx, const ray_t *r, hit_t *h, counters_t *c)

@@ -1,5 +1,5 @@
 /* test_whitted: the whitted workload's ray trees against hand counts, and
- * the rules they are spawned by (harness/spawn.h).
+ * the rules they are spawned by (harness/workloads/spawn.h).
  *
  * 1. Two facing mirror spheres, the eye between them looking into one
  *    through a field of view so narrow (1e-3 degrees) that every ray of the
@@ -22,7 +22,7 @@
  *    does that through the registry; here one check on the glass scene). */
 #include <math.h>
 #include <string.h>
-#include "harness/spawn.h"
+#include "harness/workloads/spawn.h"
 #include "testlib.h"
 
 static scene_t *axis_scene(const char *name, bool glass)

@@ -6,9 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "accel/accel.h"
-#include "harness/trace.h"
-#include "harness/verify.h"
-#include "harness/workload.h"
+#include "harness/workloads/trace.h"
+#include "harness/measure/verify.h"
+#include "harness/workloads/workload.h"
 #include "check.h"
 
 static inline scene_t *test_scene(const char *name)
