@@ -131,6 +131,13 @@ struct accel_ops {
      * nothing to settle); the harness calls it through
      * accel_settle_params(). */
     void (*settle_params)(accel_params *params);
+    /* Rules between parameters that no single row can state (bvh's
+     * compress=on needs width=8): 0, or -1 with one line naming the
+     * values. Each value has passed its row's check already; the harness
+     * calls it when the options are parsed (accel_check_params), and
+     * accel_build calls it before build(), so build() may rely on it. NULL:
+     * no such rule. */
+    int (*check)(const accel_params *params, char *err, size_t errlen);
 };
 
 /* The base of every accelerator object. */
@@ -148,6 +155,9 @@ const struct accel_ops *accel_find(const char *name);
  * and sets the base's ops and scene. NULL with a one-line reason in err. */
 accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const accel_params *params, char *err,
                    size_t errlen);
+/* ops's check() on params: 0 when it has none or it passes, else -1 with
+ * its reason. */
+int accel_check_params(const struct accel_ops *ops, const accel_params *params, char *err, size_t errlen);
 /* ops's settle_params() on params, when it has one (nothing otherwise). */
 void accel_settle_params(const struct accel_ops *ops, accel_params *params);
 /* Whether a has a reset(), and a call of it when it has (tracing changes

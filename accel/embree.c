@@ -41,9 +41,9 @@
 #include "../prims/checked_alloc.h"
 
 static const accel_param embree_params[] = {
-    {"quality", "medium", "BVH build quality: low|medium|high"},
-    {"robust", "off", "RTC_SCENE_FLAG_ROBUST: off|on"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_CHOICE("quality", "medium", "medium|low|high", "BVH build quality (RTCBuildQuality)"),
+    PARAM_ROW_BOOL("robust", "off", "RTC_SCENE_FLAG_ROBUST"),
+    PARAM_ROW_END,
 };
 
 typedef struct {
@@ -187,13 +187,9 @@ static int add_cones(embree_accel *e, const prims_t *p)
 
 static accel *embree_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const qualities[] = {"medium", "low", "high", NULL};
-    static const char *const onoff[] = {"off", "on", NULL};
     static const enum RTCBuildQuality quality_of[] = {RTC_BUILD_QUALITY_MEDIUM, RTC_BUILD_QUALITY_LOW, RTC_BUILD_QUALITY_HIGH};
-    int quality, robust;
-    if (params_get_choice(params, "quality", qualities, &quality, err, errlen) ||
-        params_get_choice(params, "robust", onoff, &robust, err, errlen))
-        return NULL;
+    int quality = params_choice(params, "quality");
+    bool robust = params_bool(params, "robust");
 
     embree_accel *e = calloc(1, sizeof *e);
     if (!e) {

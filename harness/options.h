@@ -29,8 +29,6 @@ typedef struct {
     accel_params params;
     char params_str[512]; /* every parameter, "k=v,k=v" in table order (the CSV's params) */
     char label[600];      /* name, with [params] when they differ from the defaults */
-    bool memcap_bounded;  /* params' memcap is the default lowered to the memory cap (resources.h): params_str,
-                           * label and replay commands keep the default */
 } accel_config;
 
 typedef struct {
