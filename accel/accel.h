@@ -66,12 +66,14 @@ struct accel_ops {
     const char *name;    /* command-line name, e.g. "grid" */
     const char *summary; /* one line */
     const char *paper;   /* citation with section */
-    const accel_param *params; /* parameter table, ends with a {NULL} entry */
+    const accel_param *params; /* parameter table (params.h), ends with PARAM_ROW_END */
     unsigned flags;      /* enum accel_flag */
 
     /* Build over a scene with resolved parameters (every table entry has a
-     * value). Returns NULL with a one-line reason in err on failure (a bad
-     * parameter value, a memory cap exceeded). The scene outlives the accel. */
+     * value its row allows, and check() has passed them: read them with the
+     * typed getters of params.h). Returns NULL with a one-line reason in err
+     * on failure (a memory cap exceeded, a scene it cannot take). The scene
+     * outlives the accel. */
     accel *(*build)(const scene_t *scene, const accel_params *params, char *err, size_t errlen);
 
     /* Per-thread context: mailboxes, stacks, heaps, ray ids. May be NULL,

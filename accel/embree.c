@@ -19,10 +19,7 @@
  *                prims/ has its own exact unit tests for the cone
  * prim_of[geom][primID] maps Embree's ids back to scene primitive ids.
  *
- * Parameters (defaults first):
- *   quality = medium | low | high   rtcSetSceneBuildQuality
- *   robust  = off | on              RTC_SCENE_FLAG_ROBUST (avoids optimizations
- *                                   that cost watertightness)
+ * Parameters: embree_params below (the build quality, the robust flag).
  * Memory: the bytes Embree's device reports allocating (memory monitor
  * callback), which include its own copies of the vertex and index buffers,
  * plus our id maps.
@@ -41,8 +38,8 @@
 #include "../prims/checked_alloc.h"
 
 static const accel_param embree_params[] = {
-    PARAM_ROW_CHOICE("quality", "medium", "medium|low|high", "BVH build quality (RTCBuildQuality)"),
-    PARAM_ROW_BOOL("robust", "off", "RTC_SCENE_FLAG_ROBUST"),
+    PARAM_ROW_CHOICE("quality", "medium", "medium|low|high", "BVH build quality (rtcSetSceneBuildQuality)"),
+    PARAM_ROW_BOOL("robust", "off", "RTC_SCENE_FLAG_ROBUST (avoids optimizations that cost watertightness)"),
     PARAM_ROW_END,
 };
 

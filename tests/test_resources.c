@@ -363,6 +363,16 @@ static void test_accel_memcap(void)
     const char *bracket[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid[memcap=50]", NULL};
     CHECK(parse(&o, bracket) == 2);
     options_free(&o);
+    /* nothing is built while the options are read: a legal value whose build the cap refuses parses, and the
+     * refusal is the cell's */
+    const char *huge[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid[res=100000x100000x100000]", "--memcap",
+                          "64", NULL};
+    CHECK(parse(&o, huge) == 0);
+    options_free(&o);
+    /* a rule between parameters is refused while they are read */
+    const char *rule[] = {"verify", "--scenes", "spd:balls:1", "--accels", "bvh[width=4,compress=on]", NULL};
+    CHECK(parse(&o, rule) == 2);
+    options_free(&o);
     const char *res[] = {"verify", "--scenes", "spd:balls:1", "--res", "16384x16384", "--memcap", "1024", NULL};
     CHECK(parse(&o, res) == 2); /* before any scene is loaded */
     options_free(&o);
