@@ -96,8 +96,8 @@ static int check_res(const char *value)
     {                                                                                                                \
         PARAM_ROW_STRING("res", RES, "auto, cubic:D with D in (0, 10000], or NxMxK with each in 1.." STR(RES_MAX),    \
                          check_res,                                                                                  \
-                         "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis), cubic:D "    \
-                         "(cubic voxels, about D x N: Havran-Sixta RTN 12(1)), or NxMxK"),                            \
+                         "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis); cubic:D "    \
+                         "(cubic voxels, about D x N: Havran-Sixta RTN 12(1)); NxMxK as given"),                      \
         PARAM_ROW_REAL("density", "1.0", 1e-6, 1e6, "multiplies m in res=auto"),                                     \
         PARAM_ROW_CHOICE("insert", "exact", "bbox|exact", "voxel insertion: exact (prim_overlaps_box), bbox (bounds overlap)"), \
         PARAM_ROW_BOOL("mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive"),                   \

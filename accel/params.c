@@ -55,7 +55,8 @@ static bool parse_size(const char *s, long *out)
     return true;
 }
 
-/* Parse value against row into the typed slots of p at i. */
+/* value read as row's kind: its typed form in *iv (BOOL, INT, SIZE,
+ * CHOICE), *rv (REAL) or *word; false when the row does not allow it. */
 static bool parse_value(const accel_param *row, const char *value, long *iv, double *rv, bool *word)
 {
     *iv = 0;
