@@ -67,12 +67,14 @@ struct accel_ops {
     const char *name;    /* command-line name, e.g. "grid" */
     const char *summary; /* one line */
     const char *paper;   /* citation with section */
-    const accel_param *params; /* parameter table, ends with a {NULL} entry */
+    const accel_param *params; /* parameter table (params.h), ends with PARAM_ROW_END */
     unsigned flags;      /* enum accel_flag */
 
     /* Build over a scene with resolved parameters (every table entry has a
-     * value). Returns NULL with a one-line reason in err on failure (a bad
-     * parameter value, a memory cap exceeded). The scene outlives the accel. */
+     * value its row allows, and check() has passed them: read them with the
+     * typed getters of params.h). Returns NULL with a one-line reason in err
+     * on failure (a memory cap exceeded, a scene it cannot take). The scene
+     * outlives the accel. */
     accel *(*build)(const scene_t *scene, const accel_params *params, char *err, size_t errlen);
 
     /* Per-thread context: mailboxes, stacks, heaps, ray ids. May be NULL,
@@ -132,6 +134,13 @@ struct accel_ops {
      * nothing to settle); the harness calls it through
      * accel_settle_params(). */
     void (*settle_params)(accel_params *params);
+    /* Rules between parameters that no single row can state (bvh's
+     * compress=on needs width=8): 0, or -1 with one line naming the
+     * values. Each value has passed its row's check already; the harness
+     * calls it when the options are parsed (accel_check_params), and
+     * accel_build calls it before build(), so build() may rely on it. NULL:
+     * no such rule. */
+    int (*check)(const accel_params *params, char *err, size_t errlen);
 };
 
 /* The base of every accelerator object. */
@@ -152,6 +161,9 @@ const struct accel_ops *accel_find(const char *name);
  * and sets the base's ops and scene. NULL with a one-line reason in err. */
 accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const accel_params *params, char *err,
                    size_t errlen);
+/* ops's check() on params: 0 when it has none or it passes, else -1 with
+ * its reason. */
+int accel_check_params(const struct accel_ops *ops, const accel_params *params, char *err, size_t errlen);
 /* ops's settle_params() on params, when it has one (nothing otherwise). */
 void accel_settle_params(const struct accel_ops *ops, accel_params *params);
 /* Whether a has a reset(), and a call of it when it has (tracing changes

@@ -64,26 +64,54 @@
 
 #define RAYID_WINDOW 64u
 #define RES_MAX 100000
+#define GRID_MEMCAP_MIB 4096 /* the grid's own cap (params_memcap) */
 
 enum { MTF_OFF = 0, MTF_HIT = 1, MTF_ALMOST = 2 };
 
+/* res: "auto", "cubic:D" with D in (0, 10000], or "NxMxK" with each in
+ * 1..RES_MAX. Returns 0 (auto), 1 (cubic, *d set), 2 (NxMxK, res set), or
+ * -1 for anything else. */
+static int parse_res(const char *rs, double *d, int res[3])
+{
+    char tail;
+    if (strcmp(rs, "auto") == 0) return 0;
+    if (strncmp(rs, "cubic:", 6) == 0)
+        return sscanf(rs + 6, "%lf%c", d, &tail) == 1 && *d > 0 && *d <= 1e4 ? 1 : -1;
+    if (sscanf(rs, "%dx%dx%d%c", &res[0], &res[1], &res[2], &tail) != 3) return -1;
+    for (int a = 0; a < 3; a++)
+        if (res[a] < 1 || res[a] > RES_MAX) return -1;
+    return 2;
+}
+
+static int check_res(const char *value)
+{
+    double d;
+    int res[3];
+    return parse_res(value, &d, res) < 0 ? -1 : 0;
+}
+
+#define STR_(x) #x
+#define STR(x) STR_(x)
 #define GRID_PARAM_TABLE(RES, RAYBOX, MTF, DYN, VOX, BETA, TCLIP, WOO90)                                             \
     {                                                                                                                \
-        {"res", RES, "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis) | cubic:D (cubic voxels, about D x N: Havran-Sixta RTN 12(1)) | NxMxK"}, \
-        {"density", "1.0", "multiplies m in res=auto: > 0"},                                                         \
-        {"insert", "exact", "voxel insertion: exact (prim_overlaps_box) | bbox (bounds overlap)"},                   \
-        {"mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive: on|off"},                      \
-        {"raybox", RAYBOX, "Snyder-Barr ray bounding box per voxel vs primitive bounds: on|off"},                  \
-        {"mtf", MTF, "Woo s5.1-5.2 move-to-front of the voxel list (non-shadow rays): off|hit|almost"},             \
-        {"dynbox", DYN, "Woo s6 dynamic ray box: far end shrinks to the current hit: on|off"},                      \
-        {"voxbox", VOX, "Woo s6 per-voxel box B of the candidates, tested first: on|off"},                         \
-        {"beta", BETA, "Woo s6.2 skip crossing tests when t2-t1 > beta*voxel diagonal; <= 0 disables"},             \
-        {"eyeorigin", "off", "Woo s7.2 eye-relative ray boxes for rays from the camera: on|off"},                  \
-        {"tclip", TCLIP, "Woo s7.3 primitive tests clipped to t > t1 of the voxel: on|off"},                        \
-        {"rayid", "off", "Woo s5.3 two passes, recently tested (ray id within 64) first: off|twopass"},            \
-        {"woo90", WOO90, "Woo s4 [Woo90] bounds check before the primitive test (ray segment vs bounds): on|off"},  \
-        {"memcap", "4096", "MiB: refuse a resolution whose cells and lists exceed it"},                              \
-        {NULL, NULL, NULL},                                                                                          \
+        PARAM_ROW_STRING("res", RES, "auto, cubic:D with D in (0, 10000], or NxMxK with each in 1.." STR(RES_MAX),    \
+                         check_res,                                                                                  \
+                         "cells per axis: auto (Woo 1992 s8.2: m = n^(1/3)*density on the longest axis); cubic:D "    \
+                         "(cubic voxels, about D x N: Havran-Sixta RTN 12(1)); NxMxK as given"),                      \
+        PARAM_ROW_REAL("density", "1.0", 1e-6, 1e6, "multiplies m in res=auto"),                                     \
+        PARAM_ROW_CHOICE("insert", "exact", "bbox|exact", "voxel insertion: exact (prim_overlaps_box), bbox (bounds overlap)"), \
+        PARAM_ROW_BOOL("mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive"),                   \
+        PARAM_ROW_BOOL("raybox", RAYBOX, "Snyder-Barr ray bounding box per voxel vs primitive bounds"),               \
+        PARAM_ROW_CHOICE("mtf", MTF, "off|hit|almost", "Woo s5.1-5.2 move-to-front of the voxel list (non-shadow rays)"), \
+        PARAM_ROW_BOOL("dynbox", DYN, "Woo s6 dynamic ray box: far end shrinks to the current hit"),                 \
+        PARAM_ROW_BOOL("voxbox", VOX, "Woo s6 per-voxel box B of the candidates, tested first"),                     \
+        PARAM_ROW_REAL("beta", BETA, -1e6, 1e6,                                                                      \
+                       "Woo s6.2 skip crossing tests when t2-t1 > beta*voxel diagonal; <= 0 disables"),              \
+        PARAM_ROW_BOOL("eyeorigin", "off", "Woo s7.2 eye-relative ray boxes for rays from the camera"),              \
+        PARAM_ROW_BOOL("tclip", TCLIP, "Woo s7.3 primitive tests clipped to t > t1 of the voxel"),                   \
+        PARAM_ROW_CHOICE("rayid", "off", "off|twopass", "Woo s5.3 two passes, recently tested (ray id within 64) first"), \
+        PARAM_ROW_BOOL("woo90", WOO90, "Woo s4 [Woo90] bounds check before the primitive test (ray segment vs bounds)"), \
+        PARAM_ROW_END,                                                                                               \
     }
 
 static const accel_param grid_params[] = GRID_PARAM_TABLE("cubic:20", "off", "off", "off", "off", "0", "off", "off");
@@ -228,27 +256,13 @@ static void grid_destroy(accel *a)
 static accel *grid_build_common(const scene_t *scene, const accel_params *params, char *err, size_t errlen,
                                 bool shared_mtf)
 {
-    static const char *const onoff[] = {"off", "on", NULL};
-    static const char *const inserts[] = {"bbox", "exact", NULL};
-    static const char *const mtfs[] = {"off", "hit", "almost", NULL};
-    static const char *const rayids[] = {"off", "twopass", NULL};
-    int exact, mailbox, raybox, mtf, dynbox, voxbox, eyeorigin, tclip, rayid, woo90;
-    double density, beta;
-    long memcap;
-    if (params_get_double(params, "density", 1e-6, 1e6, &density, err, errlen) ||
-        params_get_choice(params, "insert", inserts, &exact, err, errlen) ||
-        params_get_choice(params, "mailbox", onoff, &mailbox, err, errlen) ||
-        params_get_choice(params, "raybox", onoff, &raybox, err, errlen) ||
-        params_get_choice(params, "mtf", mtfs, &mtf, err, errlen) ||
-        params_get_choice(params, "dynbox", onoff, &dynbox, err, errlen) ||
-        params_get_choice(params, "voxbox", onoff, &voxbox, err, errlen) ||
-        params_get_double(params, "beta", -1e6, 1e6, &beta, err, errlen) ||
-        params_get_choice(params, "eyeorigin", onoff, &eyeorigin, err, errlen) ||
-        params_get_choice(params, "tclip", onoff, &tclip, err, errlen) ||
-        params_get_choice(params, "rayid", rayids, &rayid, err, errlen) ||
-        params_get_choice(params, "woo90", onoff, &woo90, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
-        return NULL;
+    double density = params_real(params, "density"), beta = params_real(params, "beta");
+    int exact = params_choice(params, "insert"), mtf = params_choice(params, "mtf"), rayid = params_choice(params, "rayid");
+    bool mailbox = params_bool(params, "mailbox"), raybox = params_bool(params, "raybox"),
+         dynbox = params_bool(params, "dynbox"), voxbox = params_bool(params, "voxbox"),
+         eyeorigin = params_bool(params, "eyeorigin"), tclip = params_bool(params, "tclip"),
+         woo90 = params_bool(params, "woo90");
+    uint64_t memcap = params_memcap(params, GRID_MEMCAP_MIB);
 
     const prims_t *p = &scene->prims;
     /* Coincident copies (common/coincident.h) count once in the resolution's
@@ -258,25 +272,10 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     if (prim_classes_init(&pc, p)) pc.classes = p->count;
     prim_classes_free(&pc);
     int res[3];
-    const char *rs = params_get(params, "res");
     double cubic_d;
-    char tail;
-    if (strcmp(rs, "auto") == 0) {
-        grid_auto_resolution(p->count ? p->box : box_empty(), pc.classes, density, res);
-    } else if (strncmp(rs, "cubic:", 6) == 0) {
-        if (sscanf(rs + 6, "%lf%c", &cubic_d, &tail) != 1 || !(cubic_d > 0 && cubic_d <= 1e4)) {
-            snprintf(err, errlen, "res=%s: cubic:D needs D, the cells per primitive, in (0, 10000]", rs);
-            return NULL;
-        }
-        grid_cubic_resolution(p->count ? p->box : box_empty(), pc.classes, cubic_d, res);
-    } else {
-        char extra;
-        if (sscanf(rs, "%dx%dx%d%c", &res[0], &res[1], &res[2], &extra) != 3 || res[0] < 1 || res[1] < 1 ||
-            res[2] < 1 || res[0] > RES_MAX || res[1] > RES_MAX || res[2] > RES_MAX) {
-            snprintf(err, errlen, "res=%s: must be auto, cubic:D or NxMxK with each in 1..%d", rs, RES_MAX);
-            return NULL;
-        }
-    }
+    int form = parse_res(params_string(params, "res"), &cubic_d, res);
+    if (form == 0) grid_auto_resolution(p->count ? p->box : box_empty(), pc.classes, density, res);
+    else if (form == 1) grid_cubic_resolution(p->count ? p->box : box_empty(), pc.classes, cubic_d, res);
 
     /* The grid box: the primitives' bounds, flat axes padded. */
     box3 b = p->count && !box_is_empty(p->box) ? p->box : (box3){{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}};
@@ -300,7 +299,7 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
     /* Memory cap, first for the cell arrays (before allocating anything). */
     uint64_t ncells = (uint64_t)res[0] * (uint64_t)res[1] * (uint64_t)res[2];
     uint64_t cell_bytes = (ncells + 1) * 4 + (voxbox ? ncells * (sizeof(box3) + 1) : 0);
-    if (memcap_exceeded(cell_bytes, (uint64_t)memcap, err, errlen, "res=%dx%dx%d: %llu cells (cell arrays)", res[0],
+    if (memcap_exceeded(cell_bytes, memcap, err, errlen, "res=%dx%dx%d: %llu cells (cell arrays)", res[0],
                         res[1], res[2], (unsigned long long)ncells))
         return NULL;
     if (ncells >= UINT32_MAX) {
@@ -363,7 +362,7 @@ static accel *grid_build_common(const scene_t *scene, const accel_params *params
         grid_destroy(&g->base);
         return NULL;
     }
-    if (memcap_exceeded(cell_bytes + nrefs * 4 + extra_bytes, (uint64_t)memcap, err, errlen,
+    if (memcap_exceeded(cell_bytes + nrefs * 4 + extra_bytes, memcap, err, errlen,
                         "res=%dx%dx%d: %llu cells and %llu list entries", res[0], res[1], res[2],
                         (unsigned long long)ncells, (unsigned long long)nrefs)) {
         grid_destroy(&g->base);

@@ -7,7 +7,7 @@
 #include "accel.h"
 
 /* Largest auto resolution per axis (explicit res= may go higher, up to the
- * memcap). */
+ * memory cap). */
 #define GRID_AUTO_MAX 1024
 
 /* Woo 1992, section 8.2: m = n^(1/3) * density; X = s_x / maxS * m (and Y,

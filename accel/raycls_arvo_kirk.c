@@ -72,14 +72,16 @@
 enum { BEAM_CONE = 0, BEAM_EXACT = 1 };
 
 static const accel_param rc_params[] = {
-    {"maxdepth", "auto", "deepest hypercube, 0..20 | auto (8 lazy, 2 with lazy=off)"},
-    {"maxcands", "16", "split a leaf whose candidate list is longer than this: 1..1000000000"},
-    {"truncate", "0", "partial lists (s6.4): drop candidates wholly D x (B's extent) past the origin box, 0 = off"},
-    {"lazy", "on", "on: build while tracing (figure 23) | off: build eagerly, immutable"},
-    {"beam", "cone", "culling: cone (cone-sphere) | exact (bounding box against the polyhedral beam)"},
-    {"memcap", "1024", "MiB: refuse a build past it; lazy growth past it stops splitting"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_INT_OR("maxdepth", "auto", "auto", 0, RC_DEPTH_MAX, "deepest hypercube: auto = 8 (lazy), 2 (lazy=off)"),
+    PARAM_ROW_INT("maxcands", "16", 1, 1000000000L, "split a leaf whose candidate list is longer than this"),
+    PARAM_ROW_REAL("truncate", "0", 0, 1e6, "partial lists (s6.4): drop candidates wholly D x (B's extent) past the origin box, 0 = off"),
+    PARAM_ROW_BOOL("lazy", "on", "on: build while tracing (figure 23), off: build eagerly, immutable"),
+    PARAM_ROW_CHOICE("beam", "cone", "cone|exact", "culling: cone (cone-sphere), exact (bounding box against the polyhedral beam)"),
+    PARAM_ROW_END,
 };
+
+/* raycls's own memory cap, MiB (params_memcap): lazy growth past it stops splitting. */
+#define RC_MEMCAP_MIB 1024
 
 typedef struct {
     float lo[5], hi[5]; /* 40: origin box x, y, z, then the u-v cell */
@@ -731,27 +733,16 @@ static void build_eager(rcls_t *r)
 
 static accel *rcls_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const onoff[] = {"off", "on", NULL};
-    static const char *const beams[] = {"cone", "exact", NULL};
-    int lazy, beam;
-    long maxdepth = -1, maxcands, memcap;
-    double truncate;
-    if (params_get_long(params, "maxcands", 1, 1000000000L, &maxcands, err, errlen) ||
-        params_get_double(params, "truncate", 0, 1e6, &truncate, err, errlen) ||
-        params_get_choice(params, "lazy", onoff, &lazy, err, errlen) ||
-        params_get_choice(params, "beam", beams, &beam, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
-        return NULL;
-    if (strcmp(params_get(params, "maxdepth"), "auto") == 0) maxdepth = lazy ? 8 : 2;
-    else if (params_get_long(params, "maxdepth", 0, RC_DEPTH_MAX, &maxdepth, err, errlen)) {
-        snprintf(err, errlen, "maxdepth=%s: must be auto or in 0..%d", params_get(params, "maxdepth"), RC_DEPTH_MAX);
-        return NULL;
-    }
+    bool lazy = params_bool(params, "lazy");
+    int beam = params_choice(params, "beam");
+    long maxdepth = params_int_or(params, "maxdepth", lazy ? 8 : 2), maxcands = params_int(params, "maxcands");
+    double truncate = params_real(params, "truncate");
+    uint64_t memcap = params_memcap(params, RC_MEMCAP_MIB);
 
     const prims_t *p = &scene->prims;
     uint64_t n = p->count;
     uint64_t base = fixed_bytes(p->count) + RC_ROOTS * sizeof(rcls_node) + RC_ROOTS * n * 4;
-    if (memcap_exceeded(memcap_add(base, n * sizeof(keyed)), (uint64_t)memcap, err, errlen,
+    if (memcap_exceeded(memcap_add(base, n * sizeof(keyed)), memcap, err, errlen,
                         "raycls over %llu primitives: six sorted root lists, keys and spheres",
                         (unsigned long long)n))
         return NULL;
@@ -769,8 +760,8 @@ static accel *rcls_build(const scene_t *scene, const accel_params *params, char 
     r->lazy = lazy, r->beam = beam;
     r->maxdepth = (uint32_t)maxdepth, r->maxcands = (uint32_t)maxcands;
     r->truncate = truncate;
-    r->memcap = memcap;
-    r->cap_bytes = (uint64_t)memcap << 20;
+    r->memcap = (long)memcap;
+    r->cap_bytes = memcap << 20;
     scene_box(r);
     r->key = malloc(((size_t)RC_ROOTS * r->n + 1) * sizeof *r->key);
     r->sphere = malloc((4 * (size_t)r->n + 1) * sizeof *r->sphere);

@@ -105,16 +105,25 @@ typedef struct {
 
 typedef struct { accel_ctx *fb; void (*fb_free)(accel_ctx *); } rcoh_ctx; /* the fallback's context */
 
+/* fallback: a registered accelerator answering closest hits that does not
+ * mutate and is not raycoh. */
+static int check_fallback(const char *name)
+{
+    const struct accel_ops *ops = accel_find(name);
+    return ops && strcmp(name, "raycoh") && ops->intersect && !(ops->flags & (ACCEL_MUTATES | ACCEL_SHADOW_ONLY)) ? 0 : -1;
+}
+
 static const accel_param rc_params[] = {
-    {"res", "8", "cells per direction-cube face side, 1..64 (6 res^2 cells per cluster)"},
-    {"objsize", "64", "primitives per cluster at most, 1..65536 (clusters: the kit's median BVH leaves; far from the "
-                      "origin none narrower than float coordinates resolve, so possibly more)"},
-    {"fallback", "bvh", "accelerator for rays without a usable origin primitive (eye, random rays): a registry name"},
-    {"lights", "off", "off|on: on: a shadow ray toward a scene light is answered by that light's direction cube, "
-                      "a light buffer (lightbuf with its defaults); off: by the cube of the primitive it leaves"},
-    {"spheres", "on", "on|off: test a listed cluster's bounding sphere before its primitives (an object's own bound)"},
-    {"memcap", "4096", "MiB: refuse a build whose clusters, cells and lists exceed it"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_INT("res", "8", 1, 64, "cells per direction-cube face side (6 res^2 cells per cluster)"),
+    PARAM_ROW_INT("objsize", "64", 1, 65536,
+                  "primitives per cluster at most (clusters: the kit's median BVH leaves; far from the origin none "
+                  "narrower than float coordinates resolve, so possibly more)"),
+    PARAM_ROW_STRING("fallback", "bvh", "a registered accelerator that answers closest hits and does not mutate (not raycoh)",
+                     check_fallback, "accelerator for rays without a usable origin primitive (eye, random rays)"),
+    PARAM_ROW_BOOL("lights", "off", "on: a shadow ray toward a scene light is answered by that light's direction cube, "
+                                    "a light buffer (lightbuf with its defaults); off: by the cube of the primitive it leaves"),
+    PARAM_ROW_BOOL("spheres", "on", "test a listed cluster's bounding sphere before its primitives (an object's own bound)"),
+    PARAM_ROW_END,
 };
 
 /* ------------------------------------------------------------ geometry */
@@ -472,7 +481,7 @@ static accel *build_fallback(const scene_t *scene, const accel_params *params, c
     }
     accel_params fp;
     params_defaults(&fp, ops->params);
-    fp.threads = params->threads, fp.seed = params->seed; /* the harness's, not table entries */
+    fp.threads = params->threads, fp.seed = params->seed, fp.memcap_mib = params->memcap_mib; /* the harness's */
     char sub[400];
     accel *fb = accel_build(ops, scene, &fp, sub, sizeof sub);
     if (!fb) {
@@ -494,45 +503,32 @@ static accel *build_lights(const scene_t *scene, const accel_params *params, cha
     const struct accel_ops *ops = accel_find("lightbuf");
     accel_params lp;
     params_defaults(&lp, ops->params);
-    lp.threads = params->threads, lp.seed = params->seed;
+    lp.threads = params->threads, lp.seed = params->seed, lp.memcap_mib = params->memcap_mib;
     char sub[400];
     accel *lb = accel_build(ops, scene, &lp, sub, sizeof sub);
     if (!lb) snprintf(err, errlen, "raycoh: lights=on: lightbuf: %s", sub);
     return lb;
 }
 
-static int read_params(const accel_params *params, long *res, long *objsize, long *cap, int *spheres, int *lights,
-                       char *err, size_t errlen)
-{
-    static const char *const words[] = {"off", "on", NULL};
-    if (params_get_long(params, "res", 1, 64, res, err, errlen) ||
-        params_get_choice(params, "spheres", words, spheres, err, errlen) ||
-        params_get_choice(params, "lights", words, lights, err, errlen) ||
-        params_get_long(params, "objsize", 1, 65536, objsize, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, cap, err, errlen))
-        return -1;
-    return 0;
-}
-
 static accel *rcoh_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    long res, objsize, cap;
-    int spheres, lights;
-    if (read_params(params, &res, &objsize, &cap, &spheres, &lights, err, errlen)) return NULL;
+    long res = params_int(params, "res"), objsize = params_int(params, "objsize");
+    uint64_t cap = params_memcap(params, 4096);
+    bool spheres = params_bool(params, "spheres"), lights = params_bool(params, "lights");
     rcoh_t *t = calloc(1, sizeof *t);
     if (!t) goto oom;
     t->p = &scene->prims;
-    t->res = (uint32_t)res, t->objsize = (uint32_t)objsize, t->spheres = spheres == 1;
+    t->res = (uint32_t)res, t->objsize = (uint32_t)objsize, t->spheres = spheres;
     t->ncell_per_obj = 6 * t->res * t->res;
-    t->fb = build_fallback(scene, params, params_get(params, "fallback"), err, errlen);
+    t->fb = build_fallback(scene, params, params_string(params, "fallback"), err, errlen);
     if (!t->fb) goto fail;
-    if (lights == 1 && !(t->lb = build_lights(scene, params, err, errlen))) goto fail;
+    if (lights && !(t->lb = build_lights(scene, params, err, errlen))) goto fail;
     uint32_t n = t->p->count;
     uint64_t maxobj = n ? (n + t->objsize - 1) / t->objsize * 2 : 0; /* median leaves hold at least objsize/2 */
     uint64_t nodes_bytes = memcap_mul(4 * (uint64_t)t->ncell_per_obj, sizeof(rcoh_node));
     uint64_t base = memcap_add(memcap_add(memcap_mul(maxobj, sizeof(rcoh_obj)), memcap_mul(n, 8)),
                                memcap_add(memcap_mul(memcap_mul(maxobj, t->ncell_per_obj), sizeof(rcoh_cell)), nodes_bytes));
-    if (memcap_exceeded(memcap_add(base, memcap_mul(maxobj, t->ncell_per_obj * sizeof(rcoh_ref))), (uint64_t)cap, err,
+    if (memcap_exceeded(memcap_add(base, memcap_mul(maxobj, t->ncell_per_obj * sizeof(rcoh_ref))), cap, err,
                         errlen, "raycoh's %llu clusters with %u cells each and their self entries",
                         (unsigned long long)maxobj, t->ncell_per_obj))
         goto fail;
@@ -545,7 +541,7 @@ static accel *rcoh_build(const scene_t *scene, const accel_params *params, char 
     /* Every cluster is listed in at least one cell of every cube: nobj^2 entries at least, known before any. */
     uint64_t least = memcap_add(memcap_mul(memcap_mul(t->nobj, t->nobj), sizeof(rcoh_ref)),
                                 memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rcoh_cell) + 4));
-    if (memcap_exceeded(least, (uint64_t)cap, err, errlen, "raycoh's %u clusters, all pairs listed at least once,",
+    if (memcap_exceeded(least, cap, err, errlen, "raycoh's %u clusters, all pairs listed at least once,",
                         t->nobj))
         goto fail;
     t->cells = calloc((size_t)t->nobj * t->ncell_per_obj + 1, sizeof *t->cells);
@@ -559,7 +555,7 @@ static accel *rcoh_build(const scene_t *scene, const accel_params *params, char 
                                      memcap_add(memcap_mul(memcap_mul(t->nobj, t->ncell_per_obj), sizeof(rcoh_cell)),
                                                 nodes_bytes));
     for (uint32_t a = 0; a < t->nobj && rc == 0; a++)
-        rc = fill_cube(t, a, pairs, cellbuf, count, base_bytes, (uint64_t)cap, err, errlen);
+        rc = fill_cube(t, a, pairs, cellbuf, count, base_bytes, cap, err, errlen);
     free(pairs), free(count), free(cellbuf);
     if (rc == -2) goto fail;
     if (rc) goto oom;

@@ -75,11 +75,17 @@ accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const acce
         snprintf(err, errlen, "%s: the method table lacks %s", ops->name, missing);
         return NULL;
     }
+    if (accel_check_params(ops, params, err, errlen)) return NULL;
     accel *a = ops->build(scene, params, err, errlen);
     if (!a) return NULL;
     a->ops = ops;
     a->scene = scene;
     return a;
+}
+
+int accel_check_params(const struct accel_ops *ops, const accel_params *params, char *err, size_t errlen)
+{
+    return ops->version >= 2 && ops->check ? ops->check(params, err, errlen) : 0;
 }
 
 void accel_settle_params(const struct accel_ops *ops, accel_params *params)

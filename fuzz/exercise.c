@@ -55,13 +55,7 @@ static void trace_set(accel *a, accel_ctx *ctx, const rayset_t *rs)
 
 void fuzz_cap_memory(accel_params *p)
 {
-    for (int k = 0; k < p->count; k++) {
-        if (strcmp(p->table[k].name, "memcap") != 0) continue;
-        char *end;
-        double mib = strtod(p->values[k], &end);
-        if (end != p->values[k] && !*end && !(mib <= FUZZ_MEMCAP_MIB))
-            snprintf(p->values[k], sizeof p->values[k], "%d", FUZZ_MEMCAP_MIB);
-    }
+    if (!p->memcap_mib || p->memcap_mib > FUZZ_MEMCAP_MIB) p->memcap_mib = FUZZ_MEMCAP_MIB;
 }
 
 void fuzz_accel(const struct accel_ops *ops, const scene_t *s, const accel_params *params, rayset_t *const *sets,

@@ -10,7 +10,7 @@
 #include "../harness/workloads/rayset.h"
 
 /* The fuzzer stops at 2 GB of memory and at 30 s an input; an
- * accelerator's own cap (the grids' and the octree's memcap, 4096 MiB by
+ * accelerator's own cap (the grids' and the octree's, 4096 MiB by
  * default) lets a legal setting past both (grid density=385 filled 1 GiB of
  * cells in more than 10 s; the octree's default depth over coincident
  * spheres and a cone built 131,000 nodes in 14 s, and made fuzz_nff run 67
@@ -18,8 +18,7 @@
  * still takes grids of 250,000 cells and octrees of ~12,000 nodes, and
  * every refusal path. */
 #define FUZZ_MEMCAP_MIB 1
-/* A memcap in params above FUZZ_MEMCAP_MIB comes down to it; one that is
- * not a number stays, for the accelerator to refuse. */
+/* params' memory cap (memcap_mib) at most FUZZ_MEMCAP_MIB. */
 void fuzz_cap_memory(accel_params *p);
 
 /* Build ops over s with params (NULL: its defaults; either capped by

@@ -3,7 +3,7 @@
  * line is KEY=VALUE, set on every registered accelerator's table (unknown
  * keys are refused there), or ACCEL.KEY=VALUE, set on that one only, as
  * --param gives it. Every accelerator is then built with what was set
- * (a memory cap above FUZZ_MEMCAP_MIB lowered to it: exercise.h), over the fixed
+ * (under a memory cap of FUZZ_MEMCAP_MIB: exercise.h), over the fixed
  * scene, and traced (exercise.c) with the scene's primary and random rays.
  * A line "--accels LIST" goes to the --accels parser instead
  * (harness/measure/accel_choice.c, sweeps included): it must stay inside the array it

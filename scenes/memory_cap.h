@@ -21,8 +21,9 @@
  * Embree BVH and the accelerator under test; a scene beside its BVH. Half
  * is the largest share one of them can take and still leave room for the
  * others (which the checked allocator still guards). The accelerators'
- * own caps (accel/common/memcap.h, their `memcap` parameter) are bounded
- * by it as well (harness/workloads/resources.h resources_apply_memcap).
+ * own caps (accel/common/memcap.h) are bounded by it as well: the harness
+ * hands it to every build as accel_params.memcap_mib
+ * (harness/workloads/resources.h resources_bound_accel_params).
  *
  * Not thread-safe to set; set it once when a command starts. */
 #ifndef ACCELBENCH_MEMORY_CAP_H

@@ -23,6 +23,12 @@
  * positive and unchanged by tracing (once reset: a lazily built structure
  * grows while tracing), statistics with registered names.
  *
+ * And every parameter table (check_table): each row has help, a kind, a
+ * default that parses; a value outside each range or choice list is
+ * refused with a line naming it; every variant parses and passes check();
+ * build() reads every key (getter calls counted per key), so a row no
+ * build uses fails.
+ *
  * Rays that are not traceable (NaN or infinite components, components
  * beyond 2^60, a zero direction, tnear > tfar) are answered "miss" by the
  * harness and never reach an accelerator (prims/ray.h ray_traceable,
@@ -402,6 +408,91 @@ static void check_interface(const subject *sub)
               "%s: bounds() do not contain the scene", sub->label);
 }
 
+/* value at row is refused by params_set with one line naming key and value. */
+static void expect_refused(const struct accel_ops *ops, const accel_param *row, const char *value)
+{
+    accel_params p;
+    params_defaults(&p, ops->params);
+    char err[512] = "", want[200];
+    snprintf(want, sizeof want, "%s=%s: must be ", row->name, value);
+    CHECK_MSG(params_set(&p, row->name, value, err, sizeof err) != 0 && strstr(err, want) && !strchr(err, '\n'),
+              "%s: %s=%s accepted or refused without naming it: %s", ops->name, row->name, value, err);
+}
+
+/* The parameter table as data: every row named, helped, of a known kind
+ * whose default parses; a value outside each range refused; every variant
+ * parses and passes check(); build() reads every key (counted through
+ * accel_params.reads on scene s). */
+static void check_table(const struct accel_ops *ops, const scene_t *s)
+{
+    char err[512];
+    int nrows = 0;
+    for (const accel_param *row = ops->params; row->name; row++, nrows++) {
+        CHECK_MSG(*row->name && strchr(row->name, '=') == NULL && strchr(row->name, ',') == NULL, "%s: row name '%s'",
+                  ops->name, row->name);
+        CHECK_MSG(row->help && *row->help, "%s.%s: no help", ops->name, row->name);
+        CHECK_MSG(strcmp(row->name, "memcap"), "%s: memcap is the harness's (accel_params.memcap_mib), not a row",
+                  ops->name);
+        accel_params p;
+        params_defaults(&p, ops->params);
+        CHECK_MSG(params_set(&p, row->name, row->default_value, err, sizeof err) == 0, "%s: default %s", ops->name, err);
+        char allowed[256] = "";
+        params_allowed(row, allowed, sizeof allowed);
+        CHECK_MSG(*allowed, "%s.%s: nothing allowed", ops->name, row->name);
+        char v[64];
+        switch (row->kind) {
+        case PARAM_BOOL: expect_refused(ops, row, "maybe"); break;
+        case PARAM_INT:
+        case PARAM_SIZE:
+            CHECK_MSG(row->lo <= row->hi, "%s.%s: empty range", ops->name, row->name);
+            snprintf(v, sizeof v, "%.0f", row->lo - 1);
+            expect_refused(ops, row, v);
+            snprintf(v, sizeof v, "%.0f", row->hi + 1);
+            expect_refused(ops, row, v);
+            expect_refused(ops, row, "1x");
+            break;
+        case PARAM_REAL:
+            CHECK_MSG(row->lo <= row->hi, "%s.%s: empty range", ops->name, row->name);
+            snprintf(v, sizeof v, "%.17g", row->lo - fmax(1, fabs(row->lo)));
+            expect_refused(ops, row, v);
+            snprintf(v, sizeof v, "%.17g", row->hi + fmax(1, fabs(row->hi)));
+            expect_refused(ops, row, v);
+            expect_refused(ops, row, "nan");
+            break;
+        case PARAM_CHOICE:
+            CHECK_MSG(row->words && *row->words, "%s.%s: no choices", ops->name, row->name);
+            expect_refused(ops, row, "nosuch");
+            break;
+        case PARAM_STRING:
+            CHECK_MSG(row->check && row->words, "%s.%s: a string without its grammar", ops->name, row->name);
+            expect_refused(ops, row, "?");
+            break;
+        default: CHECK_MSG(0, "%s.%s: kind %d", ops->name, row->name, (int)row->kind);
+        }
+    }
+    CHECK_MSG(nrows <= ACCEL_PARAMS_MAX, "%s: %d rows, more than %d", ops->name, nrows, ACCEL_PARAMS_MAX);
+    for (const char *const *v = ops->version >= 2 ? ops->variants : NULL; v && *v; v++) {
+        accel_params p;
+        params_defaults(&p, ops->params);
+        CHECK_MSG(params_set_list(&p, *v, err, sizeof err) == 0 && accel_check_params(ops, &p, err, sizeof err) == 0,
+                  "%s: variant %s: %s", ops->name, *v, err);
+    }
+    /* check() runs uncounted, so a key only check() reads is found unused */
+    accel_params p;
+    params_defaults(&p, ops->params);
+    accel_settle_params(ops, &p);
+    unsigned reads[ACCEL_PARAMS_MAX] = {0};
+    CHECK_MSG(accel_check_params(ops, &p, err, sizeof err) == 0, "%s: defaults refused by check(): %s", ops->name, err);
+    p.reads = reads;
+    accel *a = ops->build(s, &p, err, sizeof err);
+    CHECK_MSG(a != NULL, "%s: defaults on %s: %s", ops->name, s->name, err);
+    if (!a) return;
+    a->ops = ops, a->scene = s;
+    a->ops->destroy(a);
+    for (int k = 0; k < p.count; k++)
+        CHECK_MSG(reads[k] > 0, "%s: build() never reads its parameter %s", ops->name, p.table[k].name);
+}
+
 typedef struct {
     scene_t *s;
     accel *ref;
@@ -458,6 +549,7 @@ int main(void)
 
     for (int i = 0; accel_registry[i]; i++) {
         const struct accel_ops *ops = accel_registry[i];
+        check_table(ops, scenes[nscenes - 3].s); /* spd:balls:1 */
         const char *settings[17] = {""};
         int nv = 1;
         for (const char *const *v = ops->version >= 2 ? ops->variants : NULL; v && *v && nv < 17; v++) settings[nv++] = *v;

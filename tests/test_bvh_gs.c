@@ -384,6 +384,7 @@ static accel *build_seeded(const scene_t *s, const char *settings, uint64_t seed
     accel_params p;
     params_defaults(&p, ops->params);
     p.seed = seed;
+    if (!strcmp(settings, "memcap=1")) p.memcap_mib = 1, settings = ""; /* the harness's cap, as --memcap sets it */
     if (params_set_list(&p, settings, err, errlen)) return NULL;
     return accel_build(ops, s, &p, err, errlen);
 }

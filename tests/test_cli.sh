@@ -205,7 +205,7 @@ refused "give it as --shadow-accel lightbuf" -- "$AB" render --scene spd:balls:2
 refused "--shadow-accel: unknown accelerator 'nope'" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --shadow-accel nope --out "$T/x.png"
 refused "--shadow-accel and --heatmap" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --shadow-accel lightbuf --heatmap tests --out "$T/x.png"
 refused "--shadow-accel is an option of render" -- "$AB" verify --scenes spd:balls:1 --shadow-accel lightbuf
-refused "res=0: must be in 1..1024" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --shadow-accel lightbuf --param lightbuf.res=0 --out "$T/x.png"
+refused "res=0: must be auto or an integer in 1..1024" -- "$AB" render --scene spd:balls:2 --accel bvh-gs --shadow-accel lightbuf --param lightbuf.res=0 --out "$T/x.png"
 
 # --- reproduce woo92 (quick): tables, tidy CSV, plots, every cell verified
 expect 0 "verified: 0 real mismatches" -- "$AB" reproduce woo92 --quick --out "$T/woo" --quiet

@@ -131,7 +131,7 @@ done
 # One labelling rule: bvh's defaults as this machine settles them (isa=auto runs as the best ISA here) are its
 # defaults, so the default instance is "bvh" in the progress lines and in summary.md; list accels says the value.
 # (fma=auto settles by the ISA: off for the scalar kernels, so that instance names it too.)
-expect 0 "isa=auto  \[here: [a-z0-9]+\] box kernels" -- "$AB" list accels
+expect 0 "isa=auto  \[here: [a-z0-9]+\] \(auto\|scalar\|sse42\|avx2\|avx512\) box kernels" -- "$AB" list accels
 expect 0 "^\[1/2\] spd:balls:1 bvh primary: .*\[2/2\] spd:balls:1 bvh\[isa=scalar,fma=off\] primary" -- \
     bash -c "'$AB' run --scenes spd:balls:1 --accels 'bvh,bvh[isa=scalar]' --workloads primary --res 8x8 --out '$T/labels' 2>&1 | grep '^\[' | tr '\n' ' '"
 grep -qE "^\| [0-9]+ \| bvh \|" "$T/labels/summary.md" && grep -qE "^\| [0-9]+ \| bvh\[isa=scalar,fma=off\] \|" "$T/labels/summary.md" && ok ||

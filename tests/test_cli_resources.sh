@@ -96,11 +96,13 @@ refused "--threads 1024: the stacks of the 1023 threads .*memory cap of 1024 MiB
 # and a thread count the limit holds still runs
 expect 0 "spd:balls:1 +primary +exhaustive" -- limited $((2 * GiB)) "$AB" verify --scenes spd:balls:1 --accels exhaustive --workloads primary --res 8x8 --threads 4
 
-# --- the accelerators' own memcap: its default lowered to --memcap for the build (the label keeps the default),
-# a larger one refused
+# --- the accelerators' own caps: lowered to --memcap for the build (the label does not hold the cap); memcap is
+# no accelerator parameter, --param and --accels point to --memcap
 expect 0 "spd:balls:1 +primary +grid +64" -- "$AB" verify --scenes spd:balls:1 --accels grid --workloads primary --res 8x8 --threads 1 --memcap 64
-refused "--param grid.memcap=128: above the memory cap of 64 MiB \(--memcap 64\)" \
+refused "--param grid.memcap=128: grid: memcap is not a parameter: the memory cap is --memcap MIB" \
     -- "$AB" verify --scenes spd:balls:1 --accels grid --param grid.memcap=128 --memcap 64
+refused "grid: memcap is not a parameter: the memory cap is --memcap MIB" \
+    -- "$AB" verify --scenes spd:balls:1 --accels "grid[memcap=128]" --memcap 64
 expect 2 "over memcap=64 MiB" -- "$AB" verify --scenes spd:balls:1 --accels grid --workloads primary --res 8x8 --threads 1 \
     --param grid.res=400x400x400 --memcap 64
 

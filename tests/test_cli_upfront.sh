@@ -16,7 +16,7 @@ rows() { python3 -c 'import csv, sys; print(sum(1 for _ in csv.DictReader(open(s
 cols() { python3 -c 'import csv, sys; [print(*(r[c] for c in sys.argv[2:]), sep=" | ") for r in csv.DictReader(open(sys.argv[1]))]' "$@"; }
 
 # --- the memory limit is not part of a cell: the same run with and without ulimit -v (whose cap, half of it,
-# is below the accelerators' default memcap of 4096 MiB) has the same keys, params and labels, and resumes.
+# is below the accelerators' own cap of 4096 MiB) has the same keys, params and labels, and resumes.
 # capped CMD...: CMD under that limit. Under AddressSanitizer (scripts/test.sh's second run) no address-space
 # limit can run (its shadow memory reserves terabytes), so there the same cap is given as --memcap 1411, the
 # other way the cap is set; build/ runs these cases under ulimit -v itself.
@@ -30,7 +30,7 @@ fi
 capped "$AB" run --scenes spd:balls:1 --accels grid,bsp "${TINY[@]}" --out "$T/capped" && ok || bad "run under the limit"
 a=$(cols "$T/free/matrix.csv" params cell_key) b=$(cols "$T/capped/matrix.csv" params cell_key)
 [ -n "$a" ] && [ "$a" = "$b" ] && ok || bad "params and cell keys differ under the limit: <$a> vs <$b>"
-grep -q "memcap=4096" <<<"$b" && ok || bad "params under the limit do not keep the default memcap: $b"
+grep -q "res=cubic:20" <<<"$b" && ! grep -q "memcap" <<<"$b" && ok || bad "params under the limit hold the cap: $b"
 out=$(capped "$AB" run --scenes spd:balls:1 --accels grid,bsp --workloads primary --res 8x8 --repeat 1 --threads 1 \
     --no-plots --out "$T/free" 2>&1)
 grep -q "nothing to measure: all 2 cells" <<<"$out" && [ "$(rows "$T/free/matrix.csv")" = 2 ] \
@@ -43,13 +43,13 @@ out=$(capped "$AB" verify --scenes spd:balls:1 --accels "grid[res=1000x1000x1000
 [ $? = 2 ] && grep -qE "over memcap=1[0-9]{3} MiB" <<<"$out" && ok || bad "the limit did not bound the build: $out"
 
 # --- --accels sweeps: counted before they are expanded, the limit (63) named
-s=$(python3 -c "print('grid[' + ','.join(['memcap=1000|2000|3000'] * 40) + ']')")
+s=$(python3 -c "print('grid[' + ','.join(['density=1|2|3'] * 40) + ']')")
 refused "expand to more than the 63 instances left \\(at most 63 accelerators" -- "$AB" verify --scenes spd:balls:1 --accels "$s" --workloads primary
 s=$(python3 -c "print('grid[' + ','.join(['mailbox=on|off'] * 64) + ']')")   # 2^64 instances
 refused "expand to more than the 63 instances left \\(at most 63 accelerators" -- "$AB" verify --scenes spd:balls:1 --accels "$s" --workloads primary
-s="grid[memcap=1000|1001|1002|1003|1004|1005|1006|1007,density=1|2|3|4|5|6|7|8]"   # 64
+s="grid[beta=1|2|3|4|5|6|7|8,density=1|2|3|4|5|6|7|8]"   # 64
 refused "expand to more than the 63 instances left \\(at most 63 accelerators" -- "$AB" verify --scenes spd:balls:1 --accels "$s" --workloads primary
-s="grid[memcap=1000|1001|1002|1003|1004|1005|1006,density=1|2|3|4|5|6|7|8|9]"      # 63: just at the limit
+s="grid[beta=1|2|3|4|5|6|7,density=1|2|3|4|5|6|7|8|9]"      # 63: just at the limit
 out=$("$AB" verify --scenes spd:balls:1 --accels "$s" --workloads primary --res 4x4 2>&1)
 [ "$(grep -cE '^spd:balls:1 +primary +grid\[' <<<"$out")" = 63 ] && ok || bad "63 instances: $(tail -3 <<<"$out")"
 refused "expand to more than the 62 instances left" -- "$AB" verify --scenes spd:balls:1 --accels "exhaustive,$s" --workloads primary

@@ -77,7 +77,7 @@ static int fake_stats(const accel *a, accel_stat *out, int max)
     return 1;
 }
 
-static const accel_param no_params[] = {{NULL, NULL, NULL}};
+static const accel_param no_params[] = {PARAM_ROW_END};
 
 /* Version 2 with every method: mutates, so it must reset. */
 static const struct accel_ops fake_v2 = {

@@ -464,12 +464,12 @@ static void test_refusals(void)
     scene_t *s = test_scene("spd:balls:2");
     const struct accel_ops *ops = accel_find("octree");
     struct { const char *cfg, *needle; } bad[] = {
-        {"maxdepth=21", "maxdepth=21: must be in 0..20"},
-        {"maxdepth=-1", "maxdepth=-1: must be in 0..20"},
-        {"maxdepth=1000", "maxdepth=1000: must be in 0..20"},
-        {"maxdepth=deep", "maxdepth=deep: not an integer"},
+        {"maxdepth=21", "maxdepth=21: must be an integer in 0..20"},
+        {"maxdepth=-1", "maxdepth=-1: must be an integer in 0..20"},
+        {"maxdepth=1000", "maxdepth=1000: must be an integer in 0..20"},
+        {"maxdepth=deep", "maxdepth=deep: must be an integer in 0..20"},
         {"maxprims=-3", "maxprims=-3"},
-        {"walk=samet", "walk=samet: must be one of glassner|fujimoto"},
+        {"walk=samet", "walk=samet: must be glassner|fujimoto"},
         {"maxdepth=20,maxprims=0,memcap=1", "over memcap=1 MiB"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {

@@ -316,7 +316,7 @@ static void test_refusals(void)
     scene_t *s = soup("params", 10, 0, 0);
     static const char *const bad[][2] = {
         {"maxdepth=21", "maxdepth"}, {"maxdepth=-1", "maxdepth"}, {"maxdepth=x", "maxdepth"}, {"maxcands=0", "maxcands"},
-        {"truncate=-1", "truncate"}, {"lazy=maybe", "lazy"},     {"beam=box", "beam"},       {"memcap=0", "memcap"},
+        {"truncate=-1", "truncate"}, {"lazy=maybe", "lazy"},     {"beam=box", "beam"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) test_expect_refusal("raycls", s, bad[i][0], bad[i][1]);
     scene_free(s);

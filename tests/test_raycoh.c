@@ -292,9 +292,9 @@ static void test_refusals(void)
     scene_t *s = test_scene("spd:balls:1");
     struct { const char *cfg, *want; } bad[] = {
         {"res=0", "res"},           {"res=65", "res"},           {"objsize=0", "objsize"},
-        {"objsize=70000", "objsize"}, {"memcap=0", "memcap"}, {"spheres=maybe", "spheres"},     {"fallback=nosuch", "fallback 'nosuch'"},
-        {"fallback=raycoh", "fallback 'raycoh'"}, {"fallback=lightbuf", "fallback 'lightbuf'"},
-        {"fallback=grid-raybox", "fallback 'grid-raybox'"}, {"lights=maybe", "lights"},
+        {"objsize=70000", "objsize"}, {"spheres=maybe", "spheres"},     {"fallback=nosuch", "fallback=nosuch: must be a registered"},
+        {"fallback=raycoh", "fallback=raycoh: must be"}, {"fallback=lightbuf", "fallback=lightbuf: must be"},
+        {"fallback=grid-raybox", "fallback=grid-raybox: must be"}, {"lights=maybe", "lights"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char err[512] = "";

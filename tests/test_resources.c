@@ -14,7 +14,8 @@
  *    the allocator (mallinfo2), within the estimate; primary and random
  *    within 10% of it; 2^32 rays refused whatever the cap;
  *  - render's image, the threads' stacks, a ray file, an NFF resolution;
- *  - the accelerators' memcap bounded by --memcap (options_parse);
+ *  - every accelerator's parameters carry --memcap (options_parse), and
+ *    memcap is no table key;
  *  - a failed allocation is exit 2 with its line (in a child process). */
 #include <malloc.h>
 #include <pthread.h>
@@ -340,38 +341,39 @@ static int parse(options *o, const char *const *args)
     return options_parse(o, "verify", argc, argv);
 }
 
-static const char *memcap_value(const options *o)
-{
-    const accel_params *p = &o->accels[0].params;
-    for (int k = 0; k < p->count; k++)
-        if (!strcmp(p->table[k].name, "memcap")) return p->values[k];
-    return "";
-}
-
 static void test_accel_memcap(void)
 {
     options o;
     const char *low[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--memcap", "100", NULL};
     CHECK(parse(&o, low) == 0);
-    CHECK_MSG(!strcmp(memcap_value(&o), "100"), "grid.memcap=%s under --memcap 100", memcap_value(&o));
+    CHECK_MSG(o.accels[0].params.memcap_mib == 100, "grid's memcap_mib=%llu under --memcap 100",
+              (unsigned long long)o.accels[0].params.memcap_mib);
+    CHECK(params_memcap(&o.accels[0].params, 4096) == 100);
     /* the cap bounds the build, not what the cell is: params_str (the CSV's params, the cell key) and the label
-     * keep the default */
-    CHECK_MSG(strstr(o.accels[0].params_str, "memcap=4096") && !strcmp(o.accels[0].label, "grid") &&
-              o.accels[0].memcap_bounded, "%s / %s", o.accels[0].params_str, o.accels[0].label);
+     * do not hold it */
+    CHECK_MSG(!strstr(o.accels[0].params_str, "memcap") && !strcmp(o.accels[0].label, "grid"), "%s / %s",
+              o.accels[0].params_str, o.accels[0].label);
     options_free(&o);
     const char *high[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--memcap", "100000", NULL};
     CHECK(parse(&o, high) == 0);
-    CHECK_MSG(!strcmp(memcap_value(&o), "4096"), "grid.memcap=%s under --memcap 100000", memcap_value(&o));
+    CHECK(o.accels[0].params.memcap_mib == 100000 && params_memcap(&o.accels[0].params, 4096) == 4096);
     options_free(&o);
-    const char *given[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--param", "grid.memcap=50",
-                           "--memcap", "100", NULL};
-    CHECK(parse(&o, given) == 0 && !strcmp(memcap_value(&o), "50"));
-    CHECK_MSG(strstr(o.accels[0].params_str, "memcap=50") && !strcmp(o.accels[0].label, "grid[memcap=50]") &&
-              !o.accels[0].memcap_bounded, "%s / %s", o.accels[0].params_str, o.accels[0].label);
+    /* memcap is not a table key: --param and --accels point to --memcap */
+    const char *given[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--param", "grid.memcap=50", NULL};
+    CHECK(parse(&o, given) == 2);
     options_free(&o);
-    const char *above[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid", "--param", "grid.memcap=200",
-                           "--memcap", "100", NULL};
-    CHECK(parse(&o, above) == 2); /* refused: the harness's cap bounds every accelerator's */
+    const char *bracket[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid[memcap=50]", NULL};
+    CHECK(parse(&o, bracket) == 2);
+    options_free(&o);
+    /* nothing is built while the options are read: a legal value whose build the cap refuses parses, and the
+     * refusal is the cell's */
+    const char *huge[] = {"verify", "--scenes", "spd:balls:1", "--accels", "grid[res=100000x100000x100000]", "--memcap",
+                          "64", NULL};
+    CHECK(parse(&o, huge) == 0);
+    options_free(&o);
+    /* a rule between parameters is refused while they are read */
+    const char *rule[] = {"verify", "--scenes", "spd:balls:1", "--accels", "bvh[width=4,compress=on]", NULL};
+    CHECK(parse(&o, rule) == 2);
     options_free(&o);
     const char *res[] = {"verify", "--scenes", "spd:balls:1", "--res", "16384x16384", "--memcap", "1024", NULL};
     CHECK(parse(&o, res) == 2); /* before any scene is loaded */

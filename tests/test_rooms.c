@@ -221,7 +221,7 @@ static bool never_occluded(accel *a, accel_ctx *ctx, const ray_t *r, counters_t 
 }
 static size_t no_memory(const accel *a) { (void)a; return 0; }
 static void no_destroy(accel *a) { (void)a; }
-static const accel_param no_params[] = {{NULL, NULL, NULL}};
+static const accel_param no_params[] = {PARAM_ROW_END};
 static const struct accel_ops unshadowed_ops = {
     .version = 1, .name = "unshadowed", .summary = "closest hits of another, no shadows", .paper = "none",
     .params = no_params, .context_new = unshadowed_context, .context_free = unshadowed_context_free,

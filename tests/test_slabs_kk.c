@@ -470,7 +470,7 @@ static void test_refusals(void)
 {
     scene_t *s = soup();
     const char *bad[][2] = {{"normals=5", "normals"}, {"tree=kd", "tree"}, {"traverse=bfs", "traverse"},
-                            {"maxleaf=0", "maxleaf"}, {"maxleaf=17", "maxleaf"}, {"memcap=0", "memcap"}};
+                            {"maxleaf=0", "maxleaf"}, {"maxleaf=17", "maxleaf"}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) test_expect_refusal("slabs-kk", s, bad[i][0], bad[i][1]);
     /* The memory cap: 7381 spheres need some 2.5 MiB with 7 normals. */
     scene_t *big = test_scene("spd:balls:4");

@@ -22,7 +22,7 @@ static bool skip_occluded(accel *a, accel_ctx *ctx, const ray_t *r, counters_t *
 static size_t no_memory(const accel *a) { (void)a; return 0; }
 static void no_destroy(accel *a) { (void)a; }
 
-static const accel_param no_params[] = {{NULL, NULL, NULL}};
+static const accel_param no_params[] = {PARAM_ROW_END};
 static const struct accel_ops broken_ops = {
     .version = 1, .name = "broken", .summary = "drops every 5th primitive", .paper = "none", .params = no_params,
     .intersect = skip_intersect, .occluded = skip_occluded, .memory = no_memory, .destroy = no_destroy,

@@ -42,14 +42,24 @@ static inline accel *test_build(const char *name, const scene_t *s, int threads)
     return a;
 }
 
-/* Build ops with "k=v,k=v" over its defaults; NULL with the reason. */
+/* Build ops with "k=v,k=v" over its defaults; NULL with the reason. An
+ * item memcap=MIB is not a table key: it sets the harness's memory cap
+ * (accel_params.memcap_mib), as --memcap would. */
 static inline accel *test_build_with(const struct accel_ops *ops, const scene_t *s, const char *settings, int threads,
                                      char *err, size_t errlen)
 {
     accel_params p;
     params_defaults(&p, ops->params);
     p.threads = threads;
-    if (params_set_list(&p, settings ? settings : "", err, errlen)) return NULL;
+    char rest[1024] = "";
+    const char *q = settings ? settings : "";
+    while (*q) {
+        size_t len = strcspn(q, ",");
+        if (!strncmp(q, "memcap=", 7) && len > 7) p.memcap_mib = strtoull(q + 7, NULL, 10);
+        else snprintf(rest + strlen(rest), sizeof rest - strlen(rest), "%s%.*s", *rest ? "," : "", (int)len, q);
+        q += len + (q[len] == ',');
+    }
+    if (params_set_list(&p, rest, err, errlen)) return NULL;
     return accel_build(ops, s, &p, err, errlen);
 }
 

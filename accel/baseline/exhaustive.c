@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include "../accel.h"
 
-static const accel_param exhaustive_params[] = {{NULL, NULL, NULL}};
+static const accel_param exhaustive_params[] = {PARAM_ROW_END};
 
 static accel *exhaustive_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {

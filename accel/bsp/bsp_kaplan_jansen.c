@@ -55,18 +55,28 @@
 enum { TRAV_RECURSIVE = 0, TRAV_SEQUENTIAL = 1, TRAV_HAVRAN = 2 };
 
 static const accel_param bsp_params[] = {
-    {"split", "midpoint", "plane choice: midpoint (Kaplan, axes in turn) | sah (Wald-Havran sweep, pbrt-v4 costs)"},
-    {"traverse", "recursive", "recursive (Jansen 1986) | sequential (Kaplan 1985) | havran (TA^B_rec, Havran 2000)"},
-    {"maxdepth", "auto", "auto = round(8 + 1.3 floor(log2 N)) (pbrt-v4) | 0..64"},
-    {"maxprims", "auto", "leaf at most this many candidates: auto = 1 (sah), 2 (midpoint) | 0..1000000"},
-    {"isectcost", "80", "SAH cost of a primitive test (pbrt-v4): > 0"},
-    {"travcost", "1", "SAH cost of a traversal step (pbrt-v4): >= 0"},
-    {"emptybonus", "0.5", "SAH discount for a split with an empty child (pbrt-v4): 0..1"},
-    {"perfect", "off", "SAH perfect splits: primitives clipped to the cell (Wald-Havran 2006): on|off"},
-    {"mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive: on|off"},
-    {"memcap", "4096", "MiB: refuse a tree whose nodes, lists and build scratch exceed it"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_CHOICE("split", "midpoint", "midpoint|sah", "plane choice: midpoint (Kaplan, axes in turn), sah (Wald-Havran sweep, pbrt-v4 costs)"),
+    PARAM_ROW_CHOICE("traverse", "recursive", "recursive|sequential|havran",
+                     "recursive (Jansen 1986), sequential (Kaplan 1985), havran (TA^B_rec, Havran 2000)"),
+    PARAM_ROW_INT_OR("maxdepth", "auto", "auto", 0, KD_MAX_DEPTH, "deepest node: auto = round(8 + 1.3 floor(log2 N)) (pbrt-v4)"),
+    PARAM_ROW_INT_OR("maxprims", "auto", "auto", 0, 1000000, "leaf at most this many candidates: auto = 1 (sah), 2 (midpoint)"),
+    PARAM_ROW_REAL("isectcost", "80", 1e-9, 1e9, "SAH cost of a primitive test (pbrt-v4)"),
+    PARAM_ROW_REAL("travcost", "1", 0, 1e9, "SAH cost of a traversal step (pbrt-v4)"),
+    PARAM_ROW_REAL("emptybonus", "0.5", 0, 1, "SAH discount for a split with an empty child (pbrt-v4)"),
+    PARAM_ROW_BOOL("perfect", "off", "SAH perfect splits: primitives clipped to the cell (Wald-Havran 2006; split=sah only)"),
+    PARAM_ROW_BOOL("mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive"),
+    PARAM_ROW_END,
 };
+
+/* perfect splits belong to the SAH sweep. */
+static int bsp_check(const accel_params *params, char *err, size_t errlen)
+{
+    if (params_bool(params, "perfect") && params_choice(params, "split") != KD_SPLIT_SAH) {
+        snprintf(err, errlen, "perfect=on: perfect splits belong to split=sah (midpoint tests surfaces exactly already)");
+        return -1;
+    }
+    return 0;
+}
 
 typedef struct {
     accel base;
@@ -93,32 +103,14 @@ static void bsp_destroy(accel *a)
 
 static accel *bsp_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const splits[] = {"midpoint", "sah", NULL};
-    static const char *const travs[] = {"recursive", "sequential", "havran", NULL};
-    static const char *const onoff[] = {"off", "on", NULL};
-    int split, trav, perfect, mailbox;
-    double isect, travc, eb;
-    long memcap;
-    if (params_get_choice(params, "split", splits, &split, err, errlen) ||
-        params_get_choice(params, "traverse", travs, &trav, err, errlen) ||
-        params_get_double(params, "isectcost", 1e-9, 1e9, &isect, err, errlen) ||
-        params_get_double(params, "travcost", 0, 1e9, &travc, err, errlen) ||
-        params_get_double(params, "emptybonus", 0, 1, &eb, err, errlen) ||
-        params_get_choice(params, "perfect", onoff, &perfect, err, errlen) ||
-        params_get_choice(params, "mailbox", onoff, &mailbox, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
-        return NULL;
     const prims_t *p = &scene->prims;
-    long maxdepth, maxprims;
-    if (strcmp(params_get(params, "maxdepth"), "auto") == 0) maxdepth = kd_default_depth(p->count);
-    else if (params_get_long(params, "maxdepth", 0, KD_MAX_DEPTH, &maxdepth, err, errlen)) return NULL;
+    int split = params_choice(params, "split"), trav = params_choice(params, "traverse");
+    double isect = params_real(params, "isectcost"), travc = params_real(params, "travcost"),
+           eb = params_real(params, "emptybonus");
+    bool perfect = params_bool(params, "perfect"), mailbox = params_bool(params, "mailbox");
+    long maxdepth = params_int_or(params, "maxdepth", kd_default_depth(p->count));
     if (maxdepth > KD_MAX_DEPTH) maxdepth = KD_MAX_DEPTH; /* auto past 2^43 primitives */
-    if (strcmp(params_get(params, "maxprims"), "auto") == 0) maxprims = split == KD_SPLIT_SAH ? 1 : 2;
-    else if (params_get_long(params, "maxprims", 0, 1000000, &maxprims, err, errlen)) return NULL;
-    if (perfect && split != KD_SPLIT_SAH) {
-        snprintf(err, errlen, "perfect=on: perfect splits belong to split=sah (midpoint tests surfaces exactly already)");
-        return NULL;
-    }
+    long maxprims = params_int_or(params, "maxprims", split == KD_SPLIT_SAH ? 1 : 2);
 
     bsp_t *t = calloc(1, sizeof *t);
     if (!t) {
@@ -130,7 +122,7 @@ static accel *bsp_build(const scene_t *scene, const accel_params *params, char *
     t->traverse = trav;
     t->mailbox = mailbox;
     kd_config cfg = {.split = split, .maxdepth = (int)maxdepth, .maxprims = (int)maxprims, .isect_cost = isect,
-                     .trav_cost = travc, .empty_bonus = eb, .perfect = perfect, .memcap_mib = (uint64_t)memcap};
+                     .trav_cost = travc, .empty_bonus = eb, .perfect = perfect, .memcap_mib = params_memcap(params, 4096)};
     if (kd_build(&t->tree, p, &cfg, err, errlen)) {
         free(t);
         return NULL;
@@ -512,4 +504,5 @@ const struct accel_ops accel_bsp = {
     .intersect_fast = bsp_intersect_fast,
     .occluded_fast = bsp_occluded_fast,
     .variants = bsp_variants,
+    .check = bsp_check,
 };

@@ -50,12 +50,13 @@ enum { ORDER_GIVEN = 0, ORDER_SORTED = 1, ORDER_SHUFFLE = 2 };
 enum { TRAV_STORED = 0, TRAV_NEAREST = 1 };
 
 static const accel_param gs_params[] = {
-    {"order", "shuffle", "insertion order: given (the scene's) | sorted (centroids along the longest axis) | shuffle (seeded by --seed)"},
-    {"shuffles", "1", "order=shuffle: K trees from K seeded shuffles, the one of least eq. (3) cost kept: 1..1024"},
-    {"maxchildren", "0", "children per node at most: 0 = no bound (the paper) | 2..65536"},
-    {"traverse", "stored", "stored (survey fig. 3, stored order) | nearest (primitives, then boxes by entry distance)"},
-    {"memcap", "4096", "MiB: refuse a build whose tree and scratch exceed it"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_CHOICE("order", "shuffle", "given|sorted|shuffle",
+                     "insertion order: given (the scene's), sorted (centroids along the longest axis), shuffle (seeded by --seed)"),
+    PARAM_ROW_INT("shuffles", "1", 1, 1024, "order=shuffle: K trees from K seeded shuffles, the one of least eq. (3) cost kept"),
+    PARAM_ROW_INT("maxchildren", "0", 0, 65536, "children per node at most: 0 = no bound (the paper), else at least 2"),
+    PARAM_ROW_CHOICE("traverse", "stored", "stored|nearest",
+                     "stored (survey fig. 3, stored order), nearest (primitives, then boxes by entry distance)"),
+    PARAM_ROW_END,
 };
 
 typedef struct {
@@ -112,32 +113,33 @@ static void gs_destroy(accel *a)
     free(g);
 }
 
+/* maxchildren=1 leaves no room for two children; several trees need
+ * several shuffles. */
+static int gs_check(const accel_params *params, char *err, size_t errlen)
+{
+    long shuffles = params_int(params, "shuffles");
+    if (params_int(params, "maxchildren") == 1) {
+        snprintf(err, errlen, "maxchildren=1: a node needs room for two children (0 = no bound, or 2..65536)");
+        return -1;
+    }
+    if (shuffles > 1 && params_choice(params, "order") != ORDER_SHUFFLE) {
+        snprintf(err, errlen, "shuffles=%ld: several trees come from several shuffles, so it needs order=shuffle", shuffles);
+        return -1;
+    }
+    return 0;
+}
+
 static accel *gs_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const orders[] = {"given", "sorted", "shuffle", NULL};
-    static const char *const travs[] = {"stored", "nearest", NULL};
-    int order, trav;
-    long shuffles, maxchildren, memcap;
-    if (params_get_choice(params, "order", orders, &order, err, errlen) ||
-        params_get_long(params, "shuffles", 1, 1024, &shuffles, err, errlen) ||
-        params_get_long(params, "maxchildren", 0, 65536, &maxchildren, err, errlen) ||
-        params_get_choice(params, "traverse", travs, &trav, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
-        return NULL;
-    if (maxchildren == 1) {
-        snprintf(err, errlen, "maxchildren=1: a node needs room for two children (0 = no bound, or 2..65536)");
-        return NULL;
-    }
-    if (shuffles > 1 && order != ORDER_SHUFFLE) {
-        snprintf(err, errlen, "shuffles=%ld: several trees come from several shuffles, so it needs order=shuffle", shuffles);
-        return NULL;
-    }
+    int order = params_choice(params, "order"), trav = params_choice(params, "traverse");
+    long shuffles = params_int(params, "shuffles"), maxchildren = params_int(params, "maxchildren");
+    uint64_t memcap = params_memcap(params, 4096);
     const prims_t *p = &scene->prims;
     uint32_t n = p->count;
     /* The build, a second tree kept while another is built, and the order. */
     uint64_t bytes = memcap_add(nary_build_gs_bytes(n), memcap_mul(shuffles > 1 ? 2 * (uint64_t)n : 0, sizeof(nary_node)));
     bytes = memcap_add(bytes, memcap_mul(n, sizeof(uint32_t) + sizeof(sort_key)));
-    if (memcap_exceeded(bytes, (uint64_t)memcap, err, errlen, "bvh-gs over %u primitives:", n)) return NULL;
+    if (memcap_exceeded(bytes, memcap, err, errlen, "bvh-gs over %u primitives:", n)) return NULL;
 
     /* Coincident primitives join their first copy instead of searching (build_gs.c). */
     prim_classes pc = {NULL, n};
@@ -282,4 +284,5 @@ const struct accel_ops accel_bvh_gs = {
     .intersect_fast = gs_intersect_fast,
     .occluded_fast = gs_occluded_fast,
     .variants = gs_variants,
+    .check = gs_check,
 };

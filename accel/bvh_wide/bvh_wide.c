@@ -58,31 +58,33 @@
 #include "../../prims/checked_alloc.h"
 
 static const accel_param champ_params[] = {
-    {"width", "8", "children per node: 2 | 4 | 8 (2: binary nodes, both children tested together by SSE4.2)"},
-    {"bins", "16", "binned SAH: bins per axis, 2..256 (Wald 2007)"},
-    {"smallbins", "on", "split=object: on: a node of n primitives binned into min(bins, 4 + n/20) slots (Embree's rule) | "
-                        "off: bins (split=sbvh: always off)"},
-    {"leafsize", "4", "largest leaf the SAH builder may make, 1..32"},
-    {"minleaf", "0", "a node of at most this many primitives is always a leaf (Embree's minLeafSize), 0..32"},
-    {"bigleaf", "0", "collapse: an interior node of at most this many primitives becomes one leaf when the SAH prices it "
-                     "no higher than its split (Embree's leaves at a wide node's children), 0 (off)..255"},
-    {"slots", "split", "slot order: split (the binary tree's) | size (most primitives first, as Embree orders them)"},
-    {"travcost", "2", "SAH: cost of a node visit over one primitive test, 0.1..100 (bigger: larger leaves)"},
-    {"split", "object", "object: binned SAH object splits | sbvh: with spatial splits (Stich et al. 2009)"},
-    {"alpha", "1e-5", "sbvh: try a spatial split when the object split's overlap passes alpha x the root's area, 0..1"},
-    {"binning", "split", "sbvh: straddlers binned by split (Embree's float split, an estimate) | clip (exact, slower)"},
-    {"order", "distance", "closest hit: children sorted by entry distance | octant: in the node's order for the ray's "
-                          "octant (Ylitie et al. 2017)"},
-    {"packets", "on", "on: leaves of triangles only tested as prims/ triangle packets (4 in SoA) | off: through refs"},
-    {"isa", "auto", "box kernels: auto (the best this CPU has) | scalar | sse42 | avx2 | avx512"},
-    {"tree", "own", "own: the builds above | embree: Embree's own builder's 8-wide tree (rtcBuildBVH), our kernels over "
-                    "it (a diagnostic: width=8, split=object only)"},
-    {"fma", "auto", "box test: on: one fused multiply-add a plane with directed per-ray constants | off: subtract, "
-                    "multiply (Ize's scaled far reciprocal) | auto: on where the kernels have FMA (AVX2, AVX-512)"},
-    {"compress", "off", "on: 8-wide nodes of 128 bytes, child boxes as 8-bit planes (Ylitie et al. 2017) | off: 256, "
-                        "float planes"},
-    {"memcap", "4096", "MiB: refuse a build whose scratch and nodes exceed it"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_CHOICE("width", "8", "2|4|8", "children per node (2: binary nodes, both children tested together by SSE4.2)"),
+    PARAM_ROW_INT("bins", "16", 2, 256, "binned SAH: bins per axis (Wald 2007)"),
+    PARAM_ROW_BOOL("smallbins", "on", "split=object: on: a node of n primitives binned into min(bins, 4 + n/20) slots "
+                                      "(Embree's rule); off: bins (split=sbvh: always off)"),
+    PARAM_ROW_INT("leafsize", "4", 1, 32, "largest leaf the SAH builder may make"),
+    PARAM_ROW_INT("minleaf", "0", 0, 32, "a node of at most this many primitives is always a leaf (Embree's minLeafSize)"),
+    PARAM_ROW_INT("bigleaf", "0", 0, WIDE_MAX_LEAF,
+                  "collapse: an interior node of at most this many primitives becomes one leaf when the SAH prices it "
+                  "no higher than its split (Embree's leaves at a wide node's children); 0: off"),
+    PARAM_ROW_CHOICE("slots", "split", "split|size", "slot order: split (the binary tree's), size (most primitives first, as Embree orders them)"),
+    PARAM_ROW_REAL("travcost", "2", 0.1, 100.0, "SAH: cost of a node visit over one primitive test (bigger: larger leaves)"),
+    PARAM_ROW_CHOICE("split", "object", "object|sbvh", "object: binned SAH object splits; sbvh: with spatial splits (Stich et al. 2009)"),
+    PARAM_ROW_REAL("alpha", "1e-5", 0.0, 1.0, "sbvh: try a spatial split when the object split's overlap passes alpha x the root's area"),
+    PARAM_ROW_CHOICE("binning", "split", "split|clip", "sbvh: straddlers binned by split (Embree's float split, an estimate) or clip (exact, slower)"),
+    PARAM_ROW_CHOICE("order", "distance", "distance|octant",
+                     "closest hit: children sorted by entry distance, or octant: in the node's order for the ray's "
+                     "octant (Ylitie et al. 2017)"),
+    PARAM_ROW_BOOL("packets", "on", "on: leaves of triangles only tested as prims/ triangle packets (4 in SoA); off: through refs"),
+    PARAM_ROW_CHOICE("isa", "auto", "auto|scalar|sse42|avx2|avx512", "box kernels: auto is the best this CPU has"),
+    PARAM_ROW_CHOICE("tree", "own", "own|embree",
+                     "own: the builds above; embree: Embree's own builder's 8-wide tree (rtcBuildBVH), our kernels over "
+                     "it (a diagnostic: width=8, split=object only)"),
+    PARAM_ROW_CHOICE("fma", "auto", "off|on|auto",
+                     "box test: on: one fused multiply-add a plane with directed per-ray constants; off: subtract, "
+                     "multiply (Ize's scaled far reciprocal); auto: on where the kernels have FMA (AVX2, AVX-512)"),
+    PARAM_ROW_BOOL("compress", "off", "on: 8-wide nodes of 128 bytes, child boxes as 8-bit planes (Ylitie et al. 2017); off: 256, float planes"),
+    PARAM_ROW_END,
 };
 
 typedef struct {
@@ -129,20 +131,40 @@ static uint64_t collapse_bytes(const bvh_t *b, uint64_t wide_nodes, uint32_t wid
 /* fma=auto: on where the kernels that run have FMA instructions. */
 static bool fma_by_default(wide_isa running) { return running == WIDE_ISA_AVX2 || running == WIDE_ISA_AVX512; }
 
-static int parse_isa(const accel_params *params, wide_isa *isa, char *err, size_t errlen)
+/* isa: the choice resolved on this CPU (auto: the best it has). */
+static wide_isa isa_of(const accel_params *params)
 {
-    static const char *const names[] = {"auto", "scalar", "sse42", "avx2", "avx512", NULL};
+    int choice = params_choice(params, "isa");
+    return choice == 0 ? wide_isa_best() : (wide_isa)(choice - 1);
+}
+
+/* Rules between the parameters, and the CPU's: compress=on and tree=embree
+ * need width=8 (tree=embree also split=object), an isa this CPU has, and
+ * fma=on kernels that have fused multiply-add. */
+static int champ_check(const accel_params *params, char *err, size_t errlen)
+{
+    static const char *const names[] = {"auto", "scalar", "sse42", "avx2", "avx512"};
     static const char *const needs[] = {"", "", "SSE4.2", "AVX2 and FMA", "AVX-512F and AVX-512VL"};
-    int choice;
-    if (params_get_choice(params, "isa", names, &choice, err, errlen)) return -1;
-    if (choice == 0) {
-        *isa = wide_isa_best();
-        return 0;
+    const uint32_t width = 2u << params_choice(params, "width");
+    const bool compress = params_bool(params, "compress"), sbvh = params_choice(params, "split") == 1;
+    if (compress && width != 8) {
+        snprintf(err, errlen, "bvh compress=on: quantised nodes are 8 wide (width=8)");
+        return -1;
     }
-    *isa = (wide_isa)(choice - 1);
-    if (!wide_isa_supported(*isa) || !wide_kernels_for(*isa, 8, false, false)) {
+    if (params_choice(params, "tree") == 1 && (width != 8 || sbvh)) {
+        snprintf(err, errlen, "bvh tree=embree: Embree's tree is 8 wide with object splits (width=8, split=object)");
+        return -1;
+    }
+    int choice = params_choice(params, "isa");
+    wide_isa isa = isa_of(params);
+    if (choice && (!wide_isa_supported(isa) || !wide_kernels_for(isa, 8, false, false))) {
         snprintf(err, errlen, "isa=%s: this CPU lacks %s; isa=auto picks the best it has (%s)", names[choice],
                  needs[choice], wide_isa_names[wide_isa_best()]);
+        return -1;
+    }
+    if (params_choice(params, "fma") == 1 && !wide_kernels_for(isa, width, compress, true)) {
+        snprintf(err, errlen, "bvh fma=on: the SSE4.2 kernels (isa=sse42, and every ISA at width=2) have no fused "
+                              "multiply-add");
         return -1;
     }
     return 0;
@@ -158,37 +180,18 @@ static void split_prim(const void *ctx, uint32_t prim, box3 box, int axis, float
 
 static accel *champ_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const widths[] = {"2", "4", "8", NULL}, *const onoff[] = {"off", "on", NULL};
-    static const char *const splits[] = {"object", "sbvh", NULL}, *const binnings[] = {"split", "clip", NULL};
-    static const char *const orders[] = {"distance", "octant", NULL}, *const trees[] = {"own", "embree", NULL};
-    static const char *const slot_orders[] = {"split", "size", NULL}, *const fma_choices[] = {"off", "on", "auto", NULL};
-    int by_size, embree_tree, wsel, packets, sbvh, exact_bins, octant, small_bins, compress, fma;
-    long bins, leafsize, memcap, minleaf, bigleaf;
-    double travcost, alpha;
-    wide_isa isa;
-    if (params_get_choice(params, "width", widths, &wsel, err, errlen) ||
-        params_get_long(params, "bins", 2, 256, &bins, err, errlen) ||
-        params_get_choice(params, "smallbins", onoff, &small_bins, err, errlen) ||
-        params_get_long(params, "leafsize", 1, 32, &leafsize, err, errlen) ||
-        params_get_long(params, "minleaf", 0, 32, &minleaf, err, errlen) ||
-        params_get_long(params, "bigleaf", 0, WIDE_MAX_LEAF, &bigleaf, err, errlen) ||
-        params_get_choice(params, "slots", slot_orders, &by_size, err, errlen) ||
-        params_get_double(params, "travcost", 0.1, 100.0, &travcost, err, errlen) ||
-        params_get_choice(params, "split", splits, &sbvh, err, errlen) ||
-        params_get_double(params, "alpha", 0.0, 1.0, &alpha, err, errlen) ||
-        params_get_choice(params, "binning", binnings, &exact_bins, err, errlen) ||
-        params_get_choice(params, "order", orders, &octant, err, errlen) ||
-        params_get_choice(params, "packets", onoff, &packets, err, errlen) || parse_isa(params, &isa, err, errlen) ||
-        params_get_choice(params, "tree", trees, &embree_tree, err, errlen) ||
-        params_get_choice(params, "compress", onoff, &compress, err, errlen) ||
-        params_get_choice(params, "fma", fma_choices, &fma, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
-        return NULL;
+    const int wsel = params_choice(params, "width"), by_size = params_choice(params, "slots"),
+              embree_tree = params_choice(params, "tree"), sbvh = params_choice(params, "split"),
+              exact_bins = params_choice(params, "binning"), octant = params_choice(params, "order"),
+              fma = params_choice(params, "fma");
+    const bool small_bins = params_bool(params, "smallbins"), packets = params_bool(params, "packets"),
+               compress = params_bool(params, "compress");
+    const long bins = params_int(params, "bins"), leafsize = params_int(params, "leafsize"),
+               minleaf = params_int(params, "minleaf"), bigleaf = params_int(params, "bigleaf");
+    const double travcost = params_real(params, "travcost"), alpha = params_real(params, "alpha");
+    const wide_isa isa = isa_of(params);
+    const uint64_t memcap = params_memcap(params, 4096);
     const uint32_t width = 2u << wsel;
-    if (compress && width != 8) {
-        snprintf(err, errlen, "bvh compress=on: quantised nodes are 8 wide (width=8)");
-        return NULL;
-    }
     const prims_t *p = &scene->prims;
     const uint32_t n = p->count;
     if (n > WIDE_INDEX) {
@@ -201,7 +204,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
      * references' copies and their trees, within budgets that sum to 2n). */
     const uint64_t sbvh_bytes = memcap_add(memcap_mul(2, binary_bytes(2 * (uint64_t)n)), memcap_mul(2 * (uint64_t)n, 32));
     if (memcap_exceeded(sbvh ? sbvh_bytes : binary_bytes(n),
-                        (uint64_t)memcap, err, errlen, "bvh: the binary SAH build over %u primitives", n))
+                        memcap, err, errlen, "bvh: the binary SAH build over %u primitives", n))
         return NULL;
 
     champ_t *t = calloc(1, sizeof *t);
@@ -213,23 +216,18 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     t->isa = wide_isa_running(isa, width); /* the kernel that runs */
     const bool fused = fma == 2 ? fma_by_default(wide_isa_running(isa, width)) : fma == 1;
     t->k = wide_kernels_for(isa, width, compress, fused);
-    if (!t->k) {
-        snprintf(err, errlen, "bvh fma=on: the SSE4.2 kernels (isa=sse42, and every ISA at width=2) have no fused "
-                              "multiply-add");
+    if (!t->k) { /* champ_check refused fma=on where no kernel has it */
+        snprintf(err, errlen, "bvh: no box kernels for isa=%s at width=%u", wide_isa_names[isa], width);
         goto fail;
     }
 
     /* The kit's binary tree over the primitives' boxes. */
     for (uint32_t id = 0; id < n; id++) boxes[id] = prim_bounds(p, id);
     if (embree_tree) {
-        if (wsel != 2 || sbvh) {
-            snprintf(err, errlen, "bvh tree=embree: Embree's tree is 8 wide with object splits (width=8, split=object)");
-            goto fail;
-        }
         /* Embree's build primitives (32 bytes) and nodes and leaves (at
          * most one of each per primitive, 272 and 12 bytes), then our
          * nodes (at most one per primitive) and refs. */
-        if (memcap_exceeded(memcap_mul(n, 32 + 272 + 12 + WIDE_NODE_BYTES(8) + 4), (uint64_t)memcap, err, errlen,
+        if (memcap_exceeded(memcap_mul(n, 32 + 272 + 12 + WIDE_NODE_BYTES(8) + 4), memcap, err, errlen,
                             "bvh tree=embree: Embree's build over %u primitives", n))
             goto fail;
         if (wide_build_embree(&t->w, boxes, n, params->threads > 0 ? (uint32_t)params->threads : 1, err, errlen))
@@ -275,7 +273,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     /* Collapsed to width, its exact size checked first. */
     const wide_merge merge = {(uint32_t)bigleaf, (float)travcost, cfg.leaf_block, by_size};
     uint32_t wide_nodes = wide_count_nodes(&bin, width, &merge);
-    if (memcap_exceeded(collapse_bytes(&bin, wide_nodes, width), (uint64_t)memcap, err, errlen,
+    if (memcap_exceeded(collapse_bytes(&bin, wide_nodes, width), memcap, err, errlen,
                         "bvh: %u BVH%u nodes over %u primitives with the binary tree they come from", wide_nodes,
                         width, n))
         goto fail;
@@ -288,7 +286,7 @@ pack:
     /* The all-triangle leaves packed, their size checked first. */
     if (packets) {
         uint64_t npk = wide_count_packets(&t->w, p);
-        if (memcap_exceeded(memcap_add(wide_memory(&t->w), memcap_mul(npk, sizeof(prim_tri_packet))), (uint64_t)memcap,
+        if (memcap_exceeded(memcap_add(wide_memory(&t->w), memcap_mul(npk, sizeof(prim_tri_packet))), memcap,
                             err, errlen, "bvh: %u BVH%u nodes and %llu triangle packets over %u primitives",
                             t->w.nnodes, width, (unsigned long long)npk, n))
             goto fail;
@@ -297,7 +295,7 @@ pack:
     /* compress=on: the nodes quantised, both arrays held while it runs. */
     if (compress) {
         if (memcap_exceeded(memcap_add(wide_memory(&t->w), memcap_mul(t->w.nnodes, sizeof(wide8q_node))),
-                            (uint64_t)memcap, err, errlen, "bvh compress=on: %u BVH8 nodes and their quantised copies",
+                            memcap, err, errlen, "bvh compress=on: %u BVH8 nodes and their quantised copies",
                             t->w.nnodes))
             goto fail;
         if (wide_quantize(&t->w, err, errlen)) goto fail;
@@ -318,29 +316,17 @@ fail:
  * split=sbvh, which ignores it. */
 static void champ_settle_params(accel_params *params)
 {
-    uint32_t width = 8;
-    bool sbvh = false;
-    for (int i = 0; i < params->count; i++) {
-        if (!strcmp(params->table[i].name, "width")) width = (uint32_t)atoi(params->values[i]);
-        if (!strcmp(params->table[i].name, "split")) sbvh = !strcmp(params->values[i], "sbvh");
-    }
+    char ignored[256];
+    const uint32_t width = 2u << params_choice(params, "width");
     /* split=sbvh bins every node into `bins` (champ_build): say so. */
-    for (int i = 0; sbvh && i < params->count; i++)
-        if (!strcmp(params->table[i].name, "smallbins")) snprintf(params->values[i], sizeof params->values[i], "off");
-    wide_isa running = WIDE_ISA_COUNT;
-    for (int i = 0; i < params->count; i++) {
-        if (strcmp(params->table[i].name, "isa")) continue;
-        if (!strcmp(params->values[i], "auto"))
-            snprintf(params->values[i], sizeof params->values[i], "%s", wide_isa_names[wide_isa_best()]);
-        for (int k = 0; k < WIDE_ISA_COUNT; k++) /* an ISA this CPU lacks stays, for build() to refuse */
-            if (!strcmp(params->values[i], wide_isa_names[k]) && wide_isa_supported((wide_isa)k))
-                snprintf(params->values[i], sizeof params->values[i], "%s",
-                         wide_isa_names[running = wide_isa_running((wide_isa)k, width)]);
-    }
+    if (params_choice(params, "split") == 1) params_set(params, "smallbins", "off", ignored, sizeof ignored);
+    /* An ISA this CPU lacks stays, for champ_check to refuse. */
+    wide_isa isa = isa_of(params);
+    if (!wide_isa_supported(isa)) return;
+    wide_isa running = wide_isa_running(isa, width);
+    params_set(params, "isa", wide_isa_names[running], ignored, sizeof ignored);
     /* fma=auto: as build() resolves it for the kernels that run */
-    for (int i = 0; running < WIDE_ISA_COUNT && i < params->count; i++)
-        if (!strcmp(params->table[i].name, "fma") && !strcmp(params->values[i], "auto"))
-            snprintf(params->values[i], sizeof params->values[i], "%s", fma_by_default(running) ? "on" : "off");
+    if (params_choice(params, "fma") == 2) params_set(params, "fma", fma_by_default(running) ? "on" : "off", ignored, sizeof ignored);
 }
 
 /* -------------------------------------------------------------- context */
@@ -482,4 +468,5 @@ const struct accel_ops accel_bvh = {
     .occluded_fast = champ_occluded_fast,
     .variants = champ_variants,
     .settle_params = champ_settle_params,
+    .check = champ_check,
 };

@@ -2,7 +2,8 @@
  *
  * An accelerator whose size a parameter controls (a grid's resolution, a
  * tree's depth) estimates the bytes it would allocate BEFORE allocating
- * them and checks the estimate against its memcap parameter (MiB), so a bad
+ * them and checks the estimate against its cap (MiB: the smaller of its own
+ * and the harness's --memcap, params_memcap in params.h), so a bad
  * setting fails at once with a reason instead of swapping or being killed.
  * The reason is one line, "WHAT need N.N MiB, over memcap=M MiB", where
  * WHAT is the caller's description (printf format), written as the process

@@ -72,12 +72,12 @@
 #define LB_DEPTH_SLACK 1e-6         /* relative: depths rounded down, query depths and occ up */
 
 static const accel_param lb_params[] = {
-    {"res", "32", "cells per direction-cube face side, 1..1024 (6 res^2 cells per light), or auto (from the scene's size)"},
-    {"cull", "on", "on|off: drop polygons facing away from the light on closed solids (convex or embedded, decided soundly)"},
-    {"single", "on", "on|off: a cell listing one polygon skips its test when the segment stays on one side of it"},
-    {"fullocc", "on", "on|off: full-occlusion records: points beyond a primitive covering the cell are in shadow"},
-    {"memcap", "4096", "MiB: refuse a build whose cells, lists and fallback exceed it"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_INT_OR("res", "32", "auto", 1, LB_RES_MAX,
+                     "cells per direction-cube face side (6 res^2 cells per light); auto: from the scene's size"),
+    PARAM_ROW_BOOL("cull", "on", "drop polygons facing away from the light on closed solids (convex or embedded, decided soundly)"),
+    PARAM_ROW_BOOL("single", "on", "a cell listing one polygon skips its test when the segment stays on one side of it"),
+    PARAM_ROW_BOOL("fullocc", "on", "full-occlusion records: points beyond a primitive covering the cell are in shadow"),
+    PARAM_ROW_END,
 };
 
 typedef struct {
@@ -744,15 +744,6 @@ static uint64_t base_bytes(const prims_t *p, uint64_t nlights, uint64_t ncells, 
     return memcap_add(b, closed_solids_bytes(p));
 }
 
-static int on_off(const accel_params *params, const char *key, bool *out, char *err, size_t errlen)
-{
-    static const char *const words[] = {"off", "on", NULL};
-    int v;
-    if (params_get_choice(params, key, words, &v, err, errlen)) return -1;
-    *out = v == 1;
-    return 0;
-}
-
 /* res=auto (docs/accels/directional.md): per light, the primitives' centres are
  * binned on a coarse cube of G x G cells a face, 6 G^2 = N / 4 (about 4 a
  * cell were they spread over every direction); with O of its cells
@@ -800,21 +791,17 @@ static long auto_res(const scene_t *scene)
 
 static accel *lb_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    long res, memcap;
-    bool cull, single, fullocc;
-    bool is_auto = strcmp(params_get(params, "res"), "auto") == 0;
-    if (is_auto && !(res = auto_res(scene))) {
+    long res = params_int_or(params, "res", 0); /* 0: auto */
+    bool cull = params_bool(params, "cull"), single = params_bool(params, "single"), fullocc = params_bool(params, "fullocc");
+    uint64_t memcap = params_memcap(params, 4096);
+    if (!res && !(res = auto_res(scene))) {
         snprintf(err, errlen, "lightbuf: out of memory choosing res=auto");
         return NULL;
     }
-    if ((!is_auto && params_get_long(params, "res", 1, LB_RES_MAX, &res, err, errlen)) || on_off(params, "cull", &cull, err, errlen) ||
-        on_off(params, "single", &single, err, errlen) || on_off(params, "fullocc", &fullocc, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
-        return NULL;
     const prims_t *p = &scene->prims;
     const uint32_t ncells = 6 * (uint32_t)res * (uint32_t)res;
     uint64_t used = base_bytes(p, scene->nlights, ncells, cull);
-    if (memcap_exceeded(used, (uint64_t)memcap, err, errlen,
+    if (memcap_exceeded(used, memcap, err, errlen,
                         "the lightbuf cells (%u lights x %u) and fallback over %u primitives", scene->nlights, ncells,
                         p->count))
         return NULL;
@@ -843,7 +830,7 @@ static accel *lb_build(const scene_t *scene, const accel_params *params, char *e
         L->pos[0] = scene->lights[l].x, L->pos[1] = scene->lights[l].y, L->pos[2] = scene->lights[l].z;
         L->cells = calloc(ncells, sizeof *L->cells);
         if (!L->cells) goto oom;
-        int rc = build_light(t, L, &ci, (uint64_t)memcap, &used, err, errlen);
+        int rc = build_light(t, L, &ci, memcap, &used, err, errlen);
         if (rc == -2) goto fail;
         if (rc) goto oom;
     }

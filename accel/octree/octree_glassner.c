@@ -371,30 +371,11 @@ static void table_stats(octree_t *o)
 
 static accel *octree_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const onoff[] = {"off", "on", NULL};
-    static const char *const terms[] = {"const", "cost", NULL};
-    static const char *const walks[] = {"glassner", "fujimoto", NULL};
-    static const char *const inserts[] = {"exact", "glassner", NULL};
-    long maxdepth, maxprims, memcap;
-    int term, walk, ins, mailbox;
-    double ci, ct;
-    if (params_get_long(params, "maxdepth", LONG_MIN, LONG_MAX, &maxdepth, err, errlen)) return NULL;
-    if (maxdepth < 0 || maxdepth > OCTREE_MAXDEPTH_LIMIT) {
-        snprintf(err, errlen,
-                 "maxdepth=%s: must be in 0..%d (a tree of depth 20 already has up to 8^20 = 1.2e18 voxels; deeper "
-                 "ones only pass every memory cap)",
-                 params_get(params, "maxdepth"), OCTREE_MAXDEPTH_LIMIT);
-        return NULL;
-    }
-    if (params_get_long(params, "maxprims", 0, 1L << 30, &maxprims, err, errlen) ||
-        params_get_choice(params, "term", terms, &term, err, errlen) ||
-        params_get_double(params, "ci", 1e-6, 1e12, &ci, err, errlen) ||
-        params_get_double(params, "ct", 0, 1e12, &ct, err, errlen) ||
-        params_get_choice(params, "insert", inserts, &ins, err, errlen) ||
-        params_get_choice(params, "walk", walks, &walk, err, errlen) ||
-        params_get_choice(params, "mailbox", onoff, &mailbox, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
-        return NULL;
+    long maxdepth = params_int(params, "maxdepth"), maxprims = params_int(params, "maxprims");
+    int term = params_choice(params, "term"), walk = params_choice(params, "walk"), ins = params_choice(params, "insert");
+    bool mailbox = params_bool(params, "mailbox");
+    double ci = params_real(params, "ci"), ct = params_real(params, "ct");
+    uint64_t memcap = params_memcap(params, 4096);
 
     const prims_t *p = &scene->prims;
     octree_t *o = calloc(1, sizeof *o);
@@ -422,7 +403,7 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
     o->root = box_pad(b, o->pad);
 
     builder B = {.o = o, .maxprims = (int)maxprims, .term = term, .glassner = ins == 1, .ci = ci, .ct = ct,
-                 .memcap = (uint64_t)memcap, .nprims = p->count, .err = err, .errlen = errlen};
+                 .memcap = memcap, .nprims = p->count, .err = err, .errlen = errlen};
     B.floor_edge = OCT_EDGE_FLOOR * fmaxf(v3_max_abs(o->root.lo), v3_max_abs(o->root.hi));
     if (over_cap(&B, prim_classes_scratch_bytes(p->count))) goto fail;
     if (prim_classes_init(&B.classes, p)) {
@@ -860,16 +841,18 @@ void octree_debug_fallbacks(const accel_ctx *ctx, uint64_t *relocated, uint64_t 
 /* ---------------------------------------------------------------- table */
 
 static const accel_param octree_params[] = {
-    {"maxdepth", "8", "deepest node, root 0: 0..20 (names pass 64 bits at depth 19; held in 128)"},
-    {"maxprims", "2", "subdivide a voxel with more candidates than this: 0..2^30"},
-    {"term", "const", "stop rule: const (maxdepth, maxprims: Havran's O84-C) | cost (also MacDonald-Booth SAH)"},
-    {"ci", "80", "term=cost: cost of one primitive test (pbrt-v3 kd-tree)"},
-    {"ct", "1", "term=cost: cost of entering one voxel (pbrt-v3 kd-tree)"},
-    {"insert", "exact", "candidates: exact (prim_overlaps_box) | glassner (six faces, then a contained point)"},
-    {"walk", "glassner", "next voxel: glassner (point moved minlen/2, located by names) | fujimoto (3DDDA among siblings)"},
-    {"mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive: on|off"},
-    {"memcap", "4096", "MiB: refuse a build whose nodes, lists and name table pass it"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_INT("maxdepth", "8", 0, OCTREE_MAXDEPTH_LIMIT,
+                  "deepest node, root 0 (names pass 64 bits at depth 19, held in 128; depth 20 already allows 8^20 "
+                  "= 1.2e18 voxels)"),
+    PARAM_ROW_INT("maxprims", "2", 0, 1L << 30, "subdivide a voxel with more candidates than this"),
+    PARAM_ROW_CHOICE("term", "const", "const|cost", "stop rule: const (maxdepth, maxprims: Havran's O84-C), cost (also MacDonald-Booth SAH)"),
+    PARAM_ROW_REAL("ci", "80", 1e-6, 1e12, "term=cost: cost of one primitive test (pbrt-v3 kd-tree)"),
+    PARAM_ROW_REAL("ct", "1", 0, 1e12, "term=cost: cost of entering one voxel (pbrt-v3 kd-tree)"),
+    PARAM_ROW_CHOICE("insert", "exact", "exact|glassner", "candidates: exact (prim_overlaps_box), glassner (six faces, then a contained point)"),
+    PARAM_ROW_CHOICE("walk", "glassner", "glassner|fujimoto",
+                     "next voxel: glassner (point moved minlen/2, located by names), fujimoto (3DDDA among siblings)"),
+    PARAM_ROW_BOOL("mailbox", "on", "Arnaldi mailboxes, per-thread last ray id per primitive"),
+    PARAM_ROW_END,
 };
 
 /* The settings the conformance suite runs besides the defaults: each

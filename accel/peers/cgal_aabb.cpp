@@ -290,15 +290,14 @@ struct cgal_accel {
 };
 
 const accel_param cgal_params[] = {
-    {"kernel", "simple", "CGAL kernel: simple (Simple_cartesian<double>)|epick (Exact_predicates_inexact_constructions_kernel)"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_CHOICE("kernel", "simple", "simple|epick",
+                     "CGAL kernel: simple (Simple_cartesian<double>), epick (Exact_predicates_inexact_constructions_kernel)"),
+    PARAM_ROW_END,
 };
 
 accel *cgal_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const kernels[] = {"simple", "epick", NULL};
-    int kernel;
-    if (params_get_choice(params, "kernel", kernels, &kernel, err, errlen)) return NULL;
+    int kernel = params_choice(params, "kernel");
     cgal_accel *a = new (std::nothrow) cgal_accel();
     if (!a) {
         snprintf(err, errlen, "out of memory");
@@ -382,4 +381,5 @@ extern "C" const struct accel_ops accel_cgal_aabb = {
     /* .variants = */ cgal_variants,
     /* .order_dependent = */ NULL,
     /* .settle_params = */ NULL,
+    /* .check = */ NULL,
 };

@@ -19,10 +19,7 @@
  *                prims/ has its own exact unit tests for the cone
  * prim_of[geom][primID] maps Embree's ids back to scene primitive ids.
  *
- * Parameters (defaults first):
- *   quality = medium | low | high   rtcSetSceneBuildQuality
- *   robust  = off | on              RTC_SCENE_FLAG_ROBUST (avoids optimizations
- *                                   that cost watertightness)
+ * Parameters: embree_params below (the build quality, the robust flag).
  * Memory: the bytes Embree's device reports allocating (memory monitor
  * callback), which include its own copies of the vertex and index buffers,
  * plus our id maps.
@@ -41,9 +38,9 @@
 #include "../../prims/checked_alloc.h"
 
 static const accel_param embree_params[] = {
-    {"quality", "medium", "BVH build quality: low|medium|high"},
-    {"robust", "off", "RTC_SCENE_FLAG_ROBUST: off|on"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_CHOICE("quality", "medium", "medium|low|high", "BVH build quality (rtcSetSceneBuildQuality)"),
+    PARAM_ROW_BOOL("robust", "off", "RTC_SCENE_FLAG_ROBUST (avoids optimizations that cost watertightness)"),
+    PARAM_ROW_END,
 };
 
 typedef struct {
@@ -187,13 +184,9 @@ static int add_cones(embree_accel *e, const prims_t *p)
 
 static accel *embree_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const qualities[] = {"medium", "low", "high", NULL};
-    static const char *const onoff[] = {"off", "on", NULL};
     static const enum RTCBuildQuality quality_of[] = {RTC_BUILD_QUALITY_MEDIUM, RTC_BUILD_QUALITY_LOW, RTC_BUILD_QUALITY_HIGH};
-    int quality, robust;
-    if (params_get_choice(params, "quality", qualities, &quality, err, errlen) ||
-        params_get_choice(params, "robust", onoff, &robust, err, errlen))
-        return NULL;
+    int quality = params_choice(params, "quality");
+    bool robust = params_bool(params, "robust");
 
     embree_accel *e = calloc(1, sizeof *e);
     if (!e) {

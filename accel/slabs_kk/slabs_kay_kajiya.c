@@ -55,12 +55,11 @@ enum { TRAV_HEAP = 0, TRAV_DFS = 1 };
 #define BODY static inline __attribute__((always_inline))
 
 static const accel_param kk_params[] = {
-    {"normals", "7", "plane-set normals: 3 (the axes: AABBs) | 7 (axes and cube diagonals, Kay-Kajiya)"},
-    {"tree", "median", "hierarchy: median (median cuts, Kay-Kajiya) | gs (Goldsmith-Salmon insertion) | sah"},
-    {"traverse", "heap", "heap (by entry distance, Kay-Kajiya figure 9) | dfs (depth-first, nearer child first)"},
-    {"maxleaf", "1", "primitives per leaf, median and sah: 1..16 (1: every object its own volume)"},
-    {"memcap", "4096", "MiB: refuse a build whose nodes and build scratch exceed it"},
-    {NULL, NULL, NULL},
+    PARAM_ROW_CHOICE("normals", "7", "3|7", "plane-set normals: 3 (the axes: AABBs), 7 (axes and cube diagonals, Kay-Kajiya)"),
+    PARAM_ROW_CHOICE("tree", "median", "median|gs|sah", "hierarchy: median (median cuts, Kay-Kajiya), gs (Goldsmith-Salmon insertion), sah"),
+    PARAM_ROW_CHOICE("traverse", "heap", "heap|dfs", "heap (by entry distance, Kay-Kajiya figure 9), dfs (depth-first, nearer child first)"),
+    PARAM_ROW_INT("maxleaf", "1", 1, KK_MAX_LEAF, "primitives per leaf, median and sah (1: every object its own volume)"),
+    PARAM_ROW_END,
 };
 
 /* The two node layouts, one per normal count (sizes in the file header). */
@@ -197,20 +196,12 @@ static uint64_t build_bytes(uint64_t n, uint32_t normals)
 
 static accel *kk_build(const scene_t *scene, const accel_params *params, char *err, size_t errlen)
 {
-    static const char *const normal_sets[] = {"3", "7", NULL};
-    static const char *const trees[] = {"median", "gs", "sah", NULL};
-    static const char *const travs[] = {"heap", "dfs", NULL};
-    int nset, tree, trav;
-    long maxleaf, memcap;
-    if (params_get_choice(params, "normals", normal_sets, &nset, err, errlen) ||
-        params_get_choice(params, "tree", trees, &tree, err, errlen) ||
-        params_get_choice(params, "traverse", travs, &trav, err, errlen) ||
-        params_get_long(params, "maxleaf", 1, KK_MAX_LEAF, &maxleaf, err, errlen) ||
-        params_get_long(params, "memcap", 1, 1L << 30, &memcap, err, errlen))
-        return NULL;
+    int nset = params_choice(params, "normals"), tree = params_choice(params, "tree"), trav = params_choice(params, "traverse");
+    long maxleaf = params_int(params, "maxleaf");
+    uint64_t memcap = params_memcap(params, 4096);
     const prims_t *p = &scene->prims;
     const uint32_t K = nset == 0 ? 3 : 7, n = p->count;
-    if (memcap_exceeded(build_bytes(n, K), (uint64_t)memcap, err, errlen,
+    if (memcap_exceeded(build_bytes(n, K), memcap, err, errlen,
                         "the slabs-kk nodes and build scratch over %u primitives", n))
         return NULL;
 

@@ -63,10 +63,12 @@ static void list_accels(void)
         params_defaults(&settled, a->params);
         accel_settle_params(a, &settled);
         for (int k = 0; a->params[k].name; k++) {
-            char here[160] = "";
+            char here[160] = "", allowed[256];
             if (k < settled.count && strcmp(settled.values[k], a->params[k].default_value))
                 snprintf(here, sizeof here, "[here: %s] ", settled.values[k]);
-            printf("  %-14s   %s=%s  %s%s\n", "", a->params[k].name, a->params[k].default_value, here, a->params[k].help);
+            params_allowed(&a->params[k], allowed, sizeof allowed);
+            printf("  %-14s   %s=%s  %s(%s) %s\n", "", a->params[k].name, a->params[k].default_value, here, allowed,
+                   a->params[k].help);
         }
     }
 }
@@ -97,11 +99,14 @@ static void list_accels_markdown(void)
         printf("<!-- params:%s begin -->\n", a->name);
         if (!a->params[0].name) printf("`%s` takes no parameters.\n", a->name);
         else {
-            printf("| key | default | help |\n|---|---|---|\n");
+            printf("| key | default | allowed | help |\n|---|---|---|---|\n");
             for (int k = 0; a->params[k].name; k++) {
+                char allowed[256];
+                params_allowed(&a->params[k], allowed, sizeof allowed);
                 putchar('|');
                 md_cell(a->params[k].name, true);
                 md_cell(a->params[k].default_value, true);
+                md_cell(allowed, false);
                 md_cell(a->params[k].help, false);
                 putchar('\n');
             }

@@ -51,7 +51,7 @@ static const struct option long_opts[] = {
 
 #define MEMCAP_USAGE \
     "  --memcap MIB            refuse work estimated above MIB MiB before allocating it (default: half the memory\n" \
-    "                          this process may use; also bounds accelerators' memcap; docs/limits.md)\n"
+    "                          this process may use; also bounds every accelerator's build; docs/limits.md)\n"
 
 void options_usage(FILE *out, const char *cmd)
 {
@@ -518,7 +518,7 @@ static int apply_params(options *o, const option_values *a)
         for (int i = 0; i < o->naccels; i++) {
             if (strcmp(o->accels[i].ops->name, buf) != 0) continue;
             char err[256];
-            if (params_set(&o->accels[i].params, dot + 1, eq + 1, err, sizeof err)) {
+            if (accel_config_set(&o->accels[i], dot + 1, eq + 1, err, sizeof err)) {
                 fprintf(stderr, "accelbench: --param %s: %s: %s\n", a->params[k], buf, err);
                 return 2;
             }
@@ -573,9 +573,9 @@ static int read_accels(options *o, const option_values *a)
         o->shadow_accel = true;
     }
     if (apply_params(o, a)) return 2;
-    /* The parameters are written down (params_str, the label: the cell key's words) before the memory cap lowers
-     * a default memcap to itself: a limit that only bounds memory does not change what a cell measures, so the
-     * same command under another ulimit -v or Slurm --mem finds its cells done. */
+    /* The parameters are written down (params_str, the label: the cell key's words) without the memory cap: a
+     * limit that only bounds memory does not change what a cell measures, so the same command under another
+     * ulimit -v or Slurm --mem finds its cells done. */
     for (int i = 0; i < o->naccels; i++) {
         accel_config *ac = &o->accels[i];
         accel_settle_params(ac->ops, &ac->params); /* machine-dependent values (bvh's isa=auto) as they will run */
@@ -588,10 +588,9 @@ static int read_accels(options *o, const option_values *a)
                 return 2;
             }
     }
-    /* The memory cap, and every accelerator's memcap bounded by it, for the builds. */
+    /* The memory cap, given to every accelerator's parameters, for the builds. */
     if (resources_apply_memcap(o)) return 2;
-    /* A value only a build can judge (res=foo) is refused now, not at the first cell: each instance is built
-     * once on an 11-primitive scene. */
+    /* Rules between an instance's parameters are refused now, not at the first cell; nothing is built. */
     for (int i = 0; i < o->naccels; i++) {
         char why[600];
         if (accel_config_check(&o->accels[i], why, sizeof why)) {
@@ -717,7 +716,6 @@ void options_replay_command(const options *o, const char *scene, const char *wor
     for (int k = 0; k < ac->params.count; k++) {
         const accel_param *p = &ac->params.table[k];
         if (strcmp(ac->params.values[k], p->default_value) == 0) continue;
-        if (ac->memcap_bounded && !strcmp(p->name, "memcap")) continue; /* the memory cap's, not the user's */
         append_word(buf, len, "--param");
         snprintf(word, sizeof word, "%s.%s=%s", ac->ops->name, p->name, ac->params.values[k]);
         append_word(buf, len, word);

@@ -13,12 +13,7 @@
 int resources_apply_memcap(options *o)
 {
     memory_cap_set_mib(o->memcap_mib);
-    for (int i = 0; i < o->naccels; i++) {
-        accel_config *ac = &o->accels[i];
-        accel_params before = ac->params;
-        if (resources_bound_memcap_param(ac->ops->name, &ac->params)) return 2;
-        ac->memcap_bounded = memcmp(before.values, ac->params.values, sizeof before.values) != 0;
-    }
+    for (int i = 0; i < o->naccels; i++) resources_bound_accel_params(&o->accels[i].params);
     return 0;
 }
 

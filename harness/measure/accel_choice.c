@@ -130,7 +130,7 @@ static int expand_item(const char *item, accel_config *out, int max, char *err, 
         params_defaults(&ac->params, ops->params);
         for (int k = 0; k < nkv; k++) {
             char why[512];
-            if (params_set(&ac->params, kv[k].key, kv[k].values[idx[k]], why, sizeof why)) {
+            if (accel_config_set(ac, kv[k].key, kv[k].values[idx[k]], why, sizeof why)) {
                 snprintf(err, errlen, "--accels '%s': %s: %s", item, name, why);
                 return -1;
             }
@@ -183,21 +183,18 @@ int accel_spec_expand(const char *list, accel_config *out, int max, char *err, s
     return n;
 }
 
+int accel_config_set(accel_config *ac, const char *key, const char *value, char *err, size_t errlen)
+{
+    if (strcmp(key, "memcap") == 0 && params_index(&ac->params, key) < 0) {
+        snprintf(err, errlen, "memcap is not a parameter: the memory cap is --memcap MIB, for every accelerator");
+        return -1;
+    }
+    return params_set(&ac->params, key, value, err, errlen);
+}
+
 int accel_config_check(const accel_config *ac, char *err, size_t errlen)
 {
-    static scene_t *tiny;
-    char why[512];
-    if (!tiny && !(tiny = scene_load("spd:balls:1", why, sizeof why))) {
-        snprintf(err, errlen, "cannot make the check scene: %s", why);
-        return -1;
-    }
-    accel *a = accel_build(ac->ops, tiny, &ac->params, why, sizeof why);
-    if (!a) {
-        snprintf(err, errlen, "%s", why);
-        return -1;
-    }
-    a->ops->destroy(a);
-    return 0;
+    return accel_check_params(ac->ops, &ac->params, err, errlen);
 }
 
 void accel_config_label(const accel_config *ac, char *buf, size_t len)

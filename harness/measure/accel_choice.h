@@ -27,8 +27,6 @@ typedef struct {
     accel_params params;
     char params_str[512]; /* every parameter, "k=v,k=v" in table order (the CSV's params) */
     char label[600];      /* name, with [params] when they differ from the defaults */
-    bool memcap_bounded;  /* params' memcap is the default lowered to the memory cap (resources.h): params_str,
-                           * label and replay commands keep the default */
 } accel_config;
 
 /* Expand list into at most max instances, each with its table's defaults and
@@ -38,9 +36,15 @@ typedef struct {
  * too many instances). */
 int accel_spec_expand(const char *list, accel_config *out, int max, char *err, size_t errlen);
 
-/* Build the instance on a tiny generated scene (spd:balls:1, 11 primitives)
- * and destroy it: a value its build refuses (res=foo) is found before the
- * first cell. Returns 0, or -1 with the build's reason in err. */
+/* Set one parameter of the instance, checked against its table's row (the
+ * one parser of NAME[k=v] and --param A.K=V). 0, or -1 with one line
+ * "KEY=VALUE: must be ..." (or the unknown key) in err; the caller names
+ * the accelerator. */
+int accel_config_set(accel_config *ac, const char *key, const char *value, char *err, size_t errlen);
+
+/* The rules between the instance's parameters (its check(), accel.h), with
+ * nothing built: 0, or -1 with the reason in err. A refusal only a build
+ * can know (a memory estimate over the cap) stays with the build. */
 int accel_config_check(const accel_config *ac, char *err, size_t errlen);
 
 /* The label of an instance: its name, plus [k=v,...] for the parameters that

@@ -323,8 +323,8 @@ meas *rp_measure(rp_kit *k, const char *table, const char *variant, const char *
     }
     ac.params.threads = k->timed_threads;
     accel_settle_params(ac.ops, &ac.params); /* machine-dependent values as they will run */
-    params_format(&ac.params, ac.params_str, sizeof ac.params_str); /* the memcap given, not the cap's (resources.h) */
-    if (resources_bound_memcap_param(ac.ops->name, &ac.params)) return NULL; /* its memcap within --memcap */
+    params_format(&ac.params, ac.params_str, sizeof ac.params_str);
+    resources_bound_accel_params(&ac.params); /* the build within --memcap */
     snprintf(ac.label, sizeof ac.label, "%s", name);
 
     for (int i = 0; i < k->nmeas; i++) {

@@ -216,8 +216,6 @@ static int find_new_rows(woo_run *r)
     char ds[512], ps[512], err[256], cum[600] = OLD_SETTINGS;
     params_defaults(&d, ops->params);
     params_defaults(&p, ops->params);
-    /* as measure() sets them, so that the two strings differ only where the rows do */
-    if (resources_bound_memcap_param(ops->name, &d) || resources_bound_memcap_param(ops->name, &p)) return 2;
     params_format(&d, ds, sizeof ds);
     if (params_set_list(&p, cum, err, sizeof err)) return 2;
     for (int k = 0; k < ABL_N; k++) {

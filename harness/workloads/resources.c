@@ -56,27 +56,8 @@ int resources_parse_memcap(const char *arg, uint64_t *mib, char *err, size_t err
     return 0;
 }
 
-int resources_bound_memcap_param(const char *accel_name, accel_params *params)
+void resources_bound_accel_params(accel_params *params)
 {
     uint64_t cap_mib = memory_cap_mib();
-    if (cap_mib == 0) cap_mib = 1;
-    for (int k = 0; k < params->count; k++) {
-        const accel_param *p = &params->table[k];
-        if (strcmp(p->name, "memcap") != 0) continue;
-        char *end;
-        errno = 0;
-        unsigned long long v = strtoull(params->values[k], &end, 10);
-        if (errno || end == params->values[k] || *end) return 0; /* not a number: the accelerator refuses it */
-        if (v <= cap_mib) return 0;
-        if (strcmp(params->values[k], p->default_value) == 0) {
-            snprintf(params->values[k], sizeof params->values[k], "%llu", (unsigned long long)cap_mib);
-            return 0;
-        }
-        fprintf(stderr,
-                "accelbench: --param %s.memcap=%s: above the memory cap of %llu MiB (%s), which bounds every "
-                "accelerator's; lower it or raise --memcap\n",
-                accel_name, params->values[k], (unsigned long long)cap_mib, memory_cap_source());
-        return -1;
-    }
-    return 0;
+    params->memcap_mib = cap_mib ? cap_mib : 1;
 }

@@ -12,13 +12,12 @@
  * threads' stacks, --memcap, and the accelerators' own caps. Counts a ray
  * set cannot hold (2^32 - 1 rays) are refused whatever the cap.
  *
- * The accelerators' own caps: an accelerator parameter named memcap (MiB,
- * accel/common/memcap.h) left at its default is lowered to the harness's
- * cap, min(its default, --memcap); one given above the cap is refused, so
- * --memcap bounds everything a command builds. The CSV's params column,
- * the cell key and the accelerator's label keep the memcap given (its
- * default unless --param or --accels set it): the cap bounds memory, it
- * does not change what a cell measures. */
+ * The accelerators' own caps (accel/common/memcap.h): the harness's cap
+ * is the memcap_mib field of every accelerator's parameters, and a build
+ * refuses past min(its own cap, that) (params_memcap), so --memcap bounds
+ * everything a command builds. It is not a table row: the CSV's params
+ * column, the cell key and the label do not hold it, since the cap bounds
+ * memory and does not change what a cell measures. */
 #ifndef ACCELBENCH_RESOURCES_H
 #define ACCELBENCH_RESOURCES_H
 
@@ -48,10 +47,8 @@ int resources_check_threads(int threads, const char *option, char *err, size_t e
 /* --memcap MIB: 0 with *mib, or -1 with the reason in err. */
 int resources_parse_memcap(const char *arg, uint64_t *mib, char *err, size_t errlen);
 
-/* An accelerator's memcap parameter (MiB, if its table has one) against
- * the cap: left at its default and above the cap, lowered to it; given
- * above it, refused (-1 after printing one line). 0 otherwise. For every
- * place that fills an accelerator's parameters. */
-int resources_bound_memcap_param(const char *accel_name, accel_params *params);
+/* The harness's memory cap as params' memcap_mib (memory_cap_mib(), at
+ * least 1). */
+void resources_bound_accel_params(accel_params *params);
 
 #endif
