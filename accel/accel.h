@@ -56,11 +56,31 @@ typedef struct accel_ctx accel_ctx; /* per-thread scratch, opaque to the harness
 #define ACCEL_OPS_VERSION 2
 
 /* A named build statistic (version 2 stats()). The names an accelerator may
- * use are accel_stat_names[] (registry.c), so the CSV has one fixed column
- * stat_NAME for each and the conformance suite refuses a name not listed. */
+ * use are the shared accel_stat_names[] (registry.c) and its own table's
+ * stat_names; the CSV has one fixed column stat_NAME for each name of
+ * either kind (accel_stat_column) and the conformance suite refuses a name
+ * reported but not declared. */
 typedef struct { const char *name; double value; } accel_stat;
 #define ACCEL_STATS_MAX 16
 extern const char *const accel_stat_names[]; /* NULL-terminated */
+
+/* What a cell of the accelerator costs, for planning shards (harness/run/
+ * shard.c) and nothing else: rough weights relative to Embree's BVH, whose
+ * trace is R log2 P and build P log2 P for R rays over P primitives. A
+ * table that leaves a weight 0 gets ACCEL_COST_DEFAULT, twice Embree's:
+ * planning is then rougher, never wrong (every cell still runs once). */
+#define ACCEL_COST_DEFAULT 2.0
+enum accel_cost_shape {
+    /* A ray tests every primitive: trace is weight x R x P. */
+    ACCEL_COST_TRACE_LINEAR = 1u << 0,
+    /* The build is redone on every timed pass (a lazy build its reset
+     * discards): build counts once per pass. */
+    ACCEL_COST_BUILD_EACH_PASS = 1u << 1,
+};
+typedef struct {
+    double trace, build; /* weights, Embree's BVH = 1; 0: ACCEL_COST_DEFAULT */
+    unsigned shape;      /* enum accel_cost_shape */
+} accel_cost;
 
 struct accel_ops {
     int version; /* 1 or 2: which of the methods below exist */
@@ -141,6 +161,15 @@ struct accel_ops {
      * accel_build calls it before build(), so build() may rely on it. NULL:
      * no such rule. */
     int (*check)(const accel_params *params, char *err, size_t errlen);
+
+    /* --- data, any version --- */
+
+    /* What a cell costs, for shard planning; {0}: the stated defaults. */
+    accel_cost cost;
+    /* Statistics of its own beyond the shared accel_stat_names[] (NULL-
+     * terminated, or NULL): each gets a CSV column stat_NAME after the
+     * shared ones, in registry order. */
+    const char *const *stat_names;
 };
 
 /* The base of every accelerator object. */
@@ -175,8 +204,15 @@ void accel_reset(accel *a);
 bool accel_serial(const accel *a);
 /* The accelerator's bounds (its bounds() or the scene's). */
 box3 accel_bounds(const accel *a);
-/* Its statistics (stats() or none), checked against accel_stat_names[]. */
+/* Its statistics (stats() or none), each checked against the names it may
+ * use (accel_stat_known; an undeclared one is dropped with a warning). */
 int accel_stats(const accel *a, accel_stat *out, int max);
+/* Whether ops may report the statistic name: a shared one or its own. */
+bool accel_stat_known(const struct accel_ops *ops, const char *name);
+/* The i-th statistic with a CSV column: the shared names, then every
+ * registered table's own in registry order (each name once); NULL past
+ * the last. */
+const char *accel_stat_column(int i);
 
 #ifdef __cplusplus
 }

@@ -809,7 +809,7 @@ static const char *const grid_raybox_variants[] = {"mtf=off", "raybox=off", "res
                                                    "eyeorigin=on,rayid=twopass", NULL};
 
 /* The two tables differ in a few slots only (SQLite's IOMETHODS habit). */
-#define GRID_OPS(SYM, NAME, SUMMARY, PAPER, PARAMS, FLAGS, BUILD, RESET, VARIANTS)                                   \
+#define GRID_OPS(SYM, NAME, SUMMARY, PAPER, PARAMS, FLAGS, BUILD, RESET, VARIANTS, TRACE_COST, BUILD_COST)          \
     const struct accel_ops SYM = {                                                                                   \
         .version = 2,                                                                                                \
         .name = NAME,                                                                                                \
@@ -831,14 +831,15 @@ static const char *const grid_raybox_variants[] = {"mtf=off", "raybox=off", "res
         .occluded_fast = grid_occluded_fast,                                                                         \
         .variants = VARIANTS,                                                                                        \
         .order_dependent = grid_order_dependent,                                                                     \
+        .cost = {TRACE_COST, BUILD_COST, 0},                                                                         \
     }
 
 GRID_OPS(accel_grid, "grid", "uniform grid, Amanatides-Woo 3DDDA, mailboxes, no ray boxes (Woo switches available, off)",
          "Amanatides & Woo, Eurographics 1987; Arvo & Kirk 1989 survey s5.2-5.3; grid size Woo GI 1992 s8.2",
-         grid_params, 0, grid_build, NULL, grid_variants);
+         grid_params, 0, grid_build, NULL, grid_variants, 2, 1);
 
 /* ACCEL_MUTATES: move-to-front reorders the shared lists; reset sorts them back. */
 GRID_OPS(accel_grid_raybox, "grid-raybox",
          "uniform grid with Snyder-Barr ray boxes and Woo's 1992 optimisations (move-to-front mutates)",
          "Woo, Ray Tracing Polygons using Spatial Subdivision, GI 1992, s4-s8; Snyder & Barr 1987", grid_raybox_params,
-         ACCEL_MUTATES, grid_raybox_build, grid_reset, grid_raybox_variants);
+         ACCEL_MUTATES, grid_raybox_build, grid_reset, grid_raybox_variants, 3, 1);

@@ -872,4 +872,5 @@ const struct accel_ops accel_raycls = {
     .intersect_fast = rcls_intersect_fast,
     .occluded_fast = rcls_occluded_fast,
     .variants = rcls_variants,
+    .cost = {4, 8, ACCEL_COST_BUILD_EACH_PASS},
 };

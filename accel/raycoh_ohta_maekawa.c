@@ -759,6 +759,7 @@ const struct accel_ops accel_raycoh = {
     .intersect_fast = rcoh_intersect_fast,
     .occluded_fast = rcoh_occluded_fast,
     .variants = rcoh_variants,
+    .cost = {2, 4, 0},
 };
 
 /* ------------------------------------------------------------ test hooks */

@@ -1,27 +1,13 @@
-/* registry.c: the static table of accelerators, found by name, and
- * accel_build(), the one way to build one.
- * Adding an accelerator: write accel/NAME.c exporting `const struct
- * accel_ops accel_NAME` and add its line to accel/meson.build's
- * `accelerators` list, which reaches this file as ACCEL_TABLES
- * (X(accel_exhaustive) X(accel_embree) ...). */
+/* registry.c: finding the registered accelerators by name, the shared
+ * statistic names, and accel_build(), the one way to build one. The table
+ * itself (accel_registry[]) is registry_table.c's, made from accel/
+ * meson.build's `accelerators` list; a program that registers one more
+ * (tests/meson.build's worked example) links a table of its own instead.
+ * Adding an accelerator: write its file exporting `const struct accel_ops
+ * accel_NAME` and add its line to that list. */
 #include <stdio.h>
 #include <string.h>
 #include "accel.h"
-
-#ifndef ACCEL_TABLES
-#error "ACCEL_TABLES comes from accel/meson.build's accelerators list"
-#endif
-
-#define X(table) extern const struct accel_ops table;
-ACCEL_TABLES
-#undef X
-
-const struct accel_ops *const accel_registry[] = {
-#define X(table) &table,
-    ACCEL_TABLES
-#undef X
-    NULL,
-};
 
 const char *const accel_stat_names[] = {
     "nodes",          /* interior nodes, or cells of a grid */
@@ -52,11 +38,40 @@ const struct accel_ops *accel_find(const char *name)
     return NULL;
 }
 
-static bool known_stat(const char *name)
+static bool listed(const char *const *names, const char *name)
 {
-    for (int i = 0; accel_stat_names[i]; i++)
-        if (strcmp(accel_stat_names[i], name) == 0) return true;
+    for (int i = 0; names && names[i]; i++)
+        if (strcmp(names[i], name) == 0) return true;
     return false;
+}
+
+bool accel_stat_known(const struct accel_ops *ops, const char *name)
+{
+    return listed(accel_stat_names, name) || listed(ops->stat_names, name);
+}
+
+/* Whether the own statistic at s of accel_registry[r] has a column
+ * already: a shared name, or an own one of an earlier table or earlier in
+ * the same list (so each column appears once). */
+static bool column_before(int r, const char *const *s)
+{
+    if (listed(accel_stat_names, *s)) return true;
+    for (int q = 0; q < r; q++)
+        if (listed(accel_registry[q]->stat_names, *s)) return true;
+    for (const char *const *e = accel_registry[r]->stat_names; e < s; e++)
+        if (strcmp(*e, *s) == 0) return true;
+    return false;
+}
+
+const char *accel_stat_column(int i)
+{
+    int n = 0;
+    while (accel_stat_names[n]) n++;
+    if (i < n) return accel_stat_names[i];
+    for (int r = 0; accel_registry[r]; r++)
+        for (const char *const *s = accel_registry[r]->stat_names; s && *s; s++)
+            if (!column_before(r, s) && n++ == i) return *s;
+    return NULL;
 }
 
 accel *accel_build(const struct accel_ops *ops, const scene_t *scene, const accel_params *params, char *err,
@@ -118,8 +133,8 @@ int accel_stats(const accel *a, accel_stat *out, int max)
     /* A name the CSV has no column for is dropped, loudly (the conformance
      * suite fails on it). */
     for (int i = 0; i < n; i++)
-        if (known_stat(out[i].name)) out[kept++] = out[i];
-        else fprintf(stderr, "accelbench: warning: %s reports the statistic '%s', which accel_stat_names[] does not list\n",
-                     a->ops->name, out[i].name);
+        if (accel_stat_known(a->ops, out[i].name)) out[kept++] = out[i];
+        else fprintf(stderr, "accelbench: warning: %s reports the statistic '%s', which neither accel_stat_names[] nor its "
+                     "table's stat_names declares\n", a->ops->name, out[i].name);
     return kept;
 }

@@ -396,11 +396,23 @@ static void check_interface(const subject *sub)
         int n = a->ops->stats(a, st, ACCEL_STATS_MAX);
         CHECK_MSG(n >= 0 && n <= ACCEL_STATS_MAX, "%s: stats() returned %d", sub->label, n);
         for (int i = 0; i < n && i < ACCEL_STATS_MAX; i++) {
-            bool known = false;
-            for (int k = 0; accel_stat_names[k]; k++) known |= !strcmp(accel_stat_names[k], st[i].name);
-            CHECK_MSG(known, "%s: statistic '%s' is not in accel_stat_names[]", sub->label, st[i].name);
+            CHECK_MSG(accel_stat_known(a->ops, st[i].name),
+                      "%s: statistic '%s' is neither in accel_stat_names[] nor its table's stat_names", sub->label,
+                      st[i].name);
             CHECK_MSG(isfinite(st[i].value) && st[i].value >= 0, "%s: statistic %s = %g", sub->label, st[i].name, st[i].value);
         }
+        /* Every statistic it declares as its own is one it reports, and is
+         * not a shared name (which has its column already). */
+        for (const char *const *own = a->ops->stat_names; own && *own; own++) {
+            bool reported = false;
+            for (int i = 0; i < n && i < ACCEL_STATS_MAX; i++) reported |= !strcmp(st[i].name, *own);
+            CHECK_MSG(reported, "%s: declares the statistic %s and does not report it", sub->label, *own);
+            for (int k = 0; accel_stat_names[k]; k++)
+                CHECK_MSG(strcmp(accel_stat_names[k], *own), "%s: declares the shared statistic %s as its own",
+                          sub->label, *own);
+        }
+    } else {
+        CHECK_MSG(!a->ops->stat_names, "%s: declares statistics and has no stats()", sub->label);
     }
     box3 b = accel_bounds(a), sb = a->scene->bounds;
     CHECK_MSG(b.lo.x <= sb.lo.x && b.lo.y <= sb.lo.y && b.lo.z <= sb.lo.z && b.hi.x >= sb.hi.x && b.hi.y >= sb.hi.y &&
@@ -518,8 +530,22 @@ static void add_workloads(suite_scene *ss, int res)
     answers_free(a);
 }
 
-int main(void)
+/* Whether ops is one the command line asks for: every one when none is
+ * named (`test_accels [NAME ...]`). */
+static bool wanted(const struct accel_ops *ops, int argc, char **argv)
 {
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], ops->name)) return true;
+    return argc < 2;
+}
+
+int main(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (!accel_find(argv[i])) {
+            fprintf(stderr, "test_accels: %s is not registered in this program\n", argv[i]);
+            return 2;
+        }
     setvbuf(stdout, NULL, _IOLBF, 0);
     suite_scene scenes[8];
     int nscenes = 0;
@@ -549,6 +575,7 @@ int main(void)
 
     for (int i = 0; accel_registry[i]; i++) {
         const struct accel_ops *ops = accel_registry[i];
+        if (!wanted(ops, argc, argv)) continue;
         check_table(ops, scenes[nscenes - 3].s); /* spd:balls:1 */
         const char *settings[17] = {""};
         int nv = 1;

@@ -140,7 +140,7 @@ static void test_rows(void)
 {
     char h[CSV_HEADER_MAX];
     csv_header(h, sizeof h);
-    /* the stat_ columns (as many as accel_stat_names[]) after timed_path; the row's identity before the tail */
+    /* the stat_ columns (one per accel_stat_column) after timed_path; the row's identity before the tail */
     static const char tail[] = ",run_id,cell_key,git_rev,machine,cpu,date";
     CHECK(strstr(h, ",timed_path,timed_from,stat_nodes,") != NULL);
     CHECK(strlen(h) > strlen(tail) && strcmp(h + strlen(h) - strlen(tail), tail) == 0);

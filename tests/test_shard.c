@@ -58,7 +58,7 @@ int main(void)
     int nc = 0;
     for (int s = 0; s < 3; s++)
         for (int w = 0; w < 3; w++)
-            for (int a = 0; a < 4; a++) cost[nc++] = shard_cell_cost(accels[a], prims[s], rays[w], 3);
+            for (int a = 0; a < 4; a++) cost[nc++] = shard_cell_cost(accel_find(accels[a]), prims[s], rays[w], 3);
     CHECK(nc == 36);
     double lo = cost[0], hi = cost[0];
     for (int i = 0; i < nc; i++) lo = fmin(lo, cost[i]), hi = fmax(hi, cost[i]);
@@ -72,10 +72,24 @@ int main(void)
     for (int n = 1; n <= 7; n++) check_split(rest, nr, n);
 
     /* Cost: grows with primitives and rays; exhaustive is quadratic. */
-    CHECK(shard_cell_cost("bvh", 1000, 100, 1) < shard_cell_cost("bvh", 100000, 100, 1));
-    CHECK(shard_cell_cost("bvh", 1000, 100, 1) < shard_cell_cost("bvh", 1000, 10000, 1));
-    CHECK(shard_cell_cost("exhaustive", 100000, 10000, 1) > 100 * shard_cell_cost("embree", 100000, 10000, 1));
-    CHECK(shard_cell_cost("bvh", 1000, 100, 1) < shard_cell_cost("bvh", 1000, 100, 5));
+    const struct accel_ops *bvh = accel_find("bvh");
+    CHECK(shard_cell_cost(bvh, 1000, 100, 1) < shard_cell_cost(bvh, 100000, 100, 1));
+    CHECK(shard_cell_cost(bvh, 1000, 100, 1) < shard_cell_cost(bvh, 1000, 10000, 1));
+    CHECK(shard_cell_cost(accel_find("exhaustive"), 100000, 10000, 1) >
+          100 * shard_cell_cost(accel_find("embree"), 100000, 10000, 1));
+    CHECK(shard_cell_cost(bvh, 1000, 100, 1) < shard_cell_cost(bvh, 1000, 100, 5));
+    /* The weights and shape come from the table; a table that states none
+     * is planned at ACCEL_COST_DEFAULT for both, and a lazy build counts
+     * once per pass. */
+    const struct accel_ops unstated = {.name = "unstated"}, twice = {.name = "twice", .cost = {2, 2, 0}},
+                           lazy = {.name = "lazy", .cost = {2, 2, ACCEL_COST_BUILD_EACH_PASS}};
+    CHECK(shard_cell_cost(&unstated, 5000, 300, 2) == shard_cell_cost(&twice, 5000, 300, 2));
+    CHECK(shard_cell_cost(&lazy, 5000, 300, 2) > shard_cell_cost(&twice, 5000, 300, 2));
+    double L = log2(5000 + 2.0);
+    CHECK(fabs(shard_cell_cost(&unstated, 5000, 300, 2) - (2 * 5000 * L + 3 * 2 * 300 * L + 3 * 300 * L)) < 1e-6);
+    for (int i = 0; accel_registry[i]; i++)
+        CHECK_MSG(accel_registry[i]->cost.trace > 0 && accel_registry[i]->cost.build > 0,
+                  "%s: the registered accelerators state their cost weights", accel_registry[i]->name);
 
     /* The rule by hand: 5 4 3 3 3 on two shards: 5->0, 4->1, 3->1 (7), 3->0 (8), 3->1 (10). */
     {

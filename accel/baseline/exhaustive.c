@@ -89,4 +89,5 @@ const struct accel_ops accel_exhaustive = {
     .destroy = exhaustive_destroy,
     .intersect_fast = exhaustive_intersect_fast,
     .occluded_fast = exhaustive_occluded_fast,
+    .cost = {1, 2, ACCEL_COST_TRACE_LINEAR},
 };

@@ -505,4 +505,5 @@ const struct accel_ops accel_bsp = {
     .occluded_fast = bsp_occluded_fast,
     .variants = bsp_variants,
     .check = bsp_check,
+    .cost = {2, 4, 0},
 };

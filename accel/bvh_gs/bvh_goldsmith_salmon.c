@@ -285,4 +285,5 @@ const struct accel_ops accel_bvh_gs = {
     .occluded_fast = gs_occluded_fast,
     .variants = gs_variants,
     .check = gs_check,
+    .cost = {2, 8, 0},
 };

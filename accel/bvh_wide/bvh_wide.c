@@ -469,4 +469,5 @@ const struct accel_ops accel_bvh = {
     .variants = champ_variants,
     .settle_params = champ_settle_params,
     .check = champ_check,
+    .cost = {1, 1, 0},
 };

@@ -1012,4 +1012,5 @@ const struct accel_ops accel_lightbuf = {
     .stats = lb_stats,
     .occluded_fast = lb_occluded_fast,
     .variants = lb_variants,
+    .cost = {2, 2, 0},
 };

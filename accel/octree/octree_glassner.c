@@ -883,4 +883,5 @@ const struct accel_ops accel_octree = {
     .intersect_fast = octree_intersect_fast,
     .occluded_fast = octree_occluded_fast,
     .variants = octree_variants,
+    .cost = {3, 4, 0},
 };

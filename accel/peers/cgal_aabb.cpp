@@ -382,4 +382,6 @@ extern "C" const struct accel_ops accel_cgal_aabb = {
     /* .order_dependent = */ NULL,
     /* .settle_params = */ NULL,
     /* .check = */ NULL,
+    /* .cost = */ {3, 2, 0},
+    /* .stat_names = */ NULL,
 };

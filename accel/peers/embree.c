@@ -343,6 +343,7 @@ const struct accel_ops accel_embree = {
     .destroy = embree_destroy,
     .intersect_fast = embree_intersect_fast,
     .occluded_fast = embree_occluded_fast,
+    .cost = {1, 1, 0},
 };
 
 RTCScene embree_scene_of(accel *a) { return ((embree_accel *)a)->scene; }

@@ -416,4 +416,5 @@ const struct accel_ops accel_slabs_kk = {
     .intersect_fast = kk_intersect_fast,
     .occluded_fast = kk_occluded_fast,
     .variants = kk_variants,
+    .cost = {2, 2, 0},
 };

@@ -46,8 +46,8 @@ void csv_header(char *buf, size_t len)
     size_t n = 0;
     buf[0] = 0;
     for (int i = 0; columns_head[i]; i++) n = append_column(buf, len, n, "", columns_head[i]);
-    for (int i = 0; accel_stat_names[i]; i++)
-        if (!own_column(accel_stat_names[i])) n = append_column(buf, len, n, "stat_", accel_stat_names[i]);
+    for (int i = 0; accel_stat_column(i); i++)
+        if (!own_column(accel_stat_column(i))) n = append_column(buf, len, n, "stat_", accel_stat_column(i));
     for (int i = 0; columns_tail[i]; i++) n = append_column(buf, len, n, "", columns_tail[i]);
 }
 
@@ -55,7 +55,7 @@ int csv_columns(void)
 {
     int n = 0;
     for (int i = 0; columns_head[i]; i++) n++;
-    for (int i = 0; accel_stat_names[i]; i++) n += !own_column(accel_stat_names[i]);
+    for (int i = 0; accel_stat_column(i); i++) n += !own_column(accel_stat_column(i));
     for (int i = 0; columns_tail[i]; i++) n++;
     return n;
 }
@@ -65,9 +65,9 @@ int csv_column_index(const char *name)
     int n = 0;
     for (int i = 0; columns_head[i]; i++, n++)
         if (!strcmp(columns_head[i], name)) return n;
-    for (int i = 0; accel_stat_names[i]; i++) {
-        if (own_column(accel_stat_names[i])) continue;
-        if (!strncmp(name, "stat_", 5) && !strcmp(accel_stat_names[i], name + 5)) return n;
+    for (int i = 0; accel_stat_column(i); i++) {
+        if (own_column(accel_stat_column(i))) continue;
+        if (!strncmp(name, "stat_", 5) && !strcmp(accel_stat_column(i), name + 5)) return n;
         n++;
     }
     for (int i = 0; columns_tail[i]; i++, n++)
@@ -128,11 +128,11 @@ static void put_stat(FILE *f, const csv_row *r, const char *name)
         }
 }
 
-/* One field per name of accel_stat_names[] without a column of its own. */
+/* One field per statistic (accel_stat_column) without a column of its own. */
 static void put_stats(FILE *f, const csv_row *r)
 {
-    for (int i = 0; accel_stat_names[i]; i++)
-        if (!own_column(accel_stat_names[i])) put_stat(f, r, accel_stat_names[i]);
+    for (int i = 0; accel_stat_column(i); i++)
+        if (!own_column(accel_stat_column(i))) put_stat(f, r, accel_stat_column(i));
 }
 
 /* A count, or empty when zero means "none" (image size, samples, passes). */

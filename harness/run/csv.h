@@ -1,9 +1,9 @@
 /* csv.h: the tidy benchmark CSV, one row per (scene, accel+params,
  * workload, threads). Counter columns are per ray (averages); they are
  * empty for accelerators whose counters are not observable (Embree). The
- * columns are fixed: csv_header() lists them, one stat_NAME for every name
- * of accel_stat_names[] included, so every row of every run has the same
- * columns whatever it measured. Every row carries the run that wrote it
+ * columns are fixed: csv_header() lists them, one stat_NAME for every
+ * statistic a registered accelerator declares included (accel_stat_column),
+ * so every row of every run has the same columns whatever it measured. Every row carries the run that wrote it
  * (run_id) and the cell it measures (cell_key, cellkey.h), so a results
  * file can be resumed and deduplicated (resume.h).
  *
@@ -42,7 +42,7 @@ typedef struct {
     const char *timed_path;    /* "fast", "counting" or "opaque": the methods the timed samples called */
     const char *timed_from;    /* "reset": an accelerator with reset() timed from its post-build state every pass;
                                   "warm": not reset (run --warm-passes); "": it has no reset() */
-    accel_stat stats[ACCEL_STATS_MAX]; /* the accelerator's statistics (names from accel_stat_names[]) */
+    accel_stat stats[ACCEL_STATS_MAX]; /* the accelerator's statistics (names from accel_stat_column) */
     int nstats;
     /* A ray set of no rays: nothing was built, traced or timed, and every
      * column that would be a time, a rate, a ratio, memory, a per-ray

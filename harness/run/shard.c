@@ -28,25 +28,14 @@ int shard_parse(const char *s, int *k, int *n, char *err, size_t errlen)
     return 0;
 }
 
-/* Rough weights per accelerator, trace and build, relative to Embree's
- * BVH (from the committed runs' times: the grids and the hierarchies of
- * the 1980s trace a few times slower, the octree, the BSPs and the
- * insertion-built hierarchy build several times slower on large meshes). */
-static const struct { const char *name; double trace, build; } weights[] = {
-    {"embree", 1, 1},      {"bvh", 1, 1},         {"grid", 2, 1},      {"grid-raybox", 3, 1},
-    {"octree", 3, 4},      {"bsp", 2, 4},         {"bvh-gs", 2, 8},    {"cgal-aabb", 3, 2},
-    {"lightbuf", 2, 2},    {"slabs-kk", 2, 2},    {"raycls", 4, 8},    {"raycoh", 2, 4},
-};
-
-double shard_cell_cost(const char *accel, uint64_t prims, uint64_t rays, int repeat)
+double shard_cell_cost(const struct accel_ops *ops, uint64_t prims, uint64_t rays, int repeat)
 {
     double P = (double)prims, R = (double)rays, L = log2(P + 2.0), passes = repeat + 1.0;
-    double wt = 2, wb = 2;
-    for (size_t i = 0; i < sizeof weights / sizeof weights[0]; i++)
-        if (!strcmp(weights[i].name, accel)) wt = weights[i].trace, wb = weights[i].build;
+    double wt = ops->cost.trace > 0 ? ops->cost.trace : ACCEL_COST_DEFAULT;
+    double wb = ops->cost.build > 0 ? ops->cost.build : ACCEL_COST_DEFAULT;
     double build = wb * P * L;
-    double trace = !strcmp(accel, "exhaustive") ? R * P : wt * R * L;
-    if (!strcmp(accel, "raycls")) build *= passes; /* its lazy build is redone on every timed pass */
+    double trace = ops->cost.shape & ACCEL_COST_TRACE_LINEAR ? wt * R * P : wt * R * L;
+    if (ops->cost.shape & ACCEL_COST_BUILD_EACH_PASS) build *= passes;
     return build + passes * trace + (1.0 + repeat) * R * L;
 }
 

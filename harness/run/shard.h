@@ -14,12 +14,13 @@
  * and the timed samples):
  *
  *     build  = wb(accel) x P x L
- *     trace  = wt(accel) x R x L per pass (exhaustive: R x P)
+ *     trace  = wt(accel) x R x L per pass (ACCEL_COST_TRACE_LINEAR: wt x R x P)
  *     embree = (1 + repeat) x R x L (the reference's answers and the paired samples)
- *     cost   = build (x passes for raycls, whose lazy build is redone every pass) + passes x trace + embree
+ *     cost   = build (x passes under ACCEL_COST_BUILD_EACH_PASS) + passes x trace + embree
  *
- * with per-accelerator weights (wt, wb) that are rough guesses from the
- * committed runs (shard.c's table; 2, 2 for an accelerator not in it).
+ * with the weights (wt, wb) and shape of the accelerator's own table
+ * (accel_ops.cost, accel.h: rough guesses from the committed runs;
+ * ACCEL_COST_DEFAULT where a table leaves one 0).
  *
  * Assignment (shard_assign): greedy longest processing time: cells sorted
  * by cost, largest first, ties by enumeration index; each goes to the shard
@@ -55,7 +56,7 @@
 int shard_parse(const char *s, int *k, int *n, char *err, size_t errlen);
 
 /* The estimated cost of one cell (see above). */
-double shard_cell_cost(const char *accel, uint64_t prims, uint64_t rays, int repeat);
+double shard_cell_cost(const struct accel_ops *ops, uint64_t prims, uint64_t rays, int repeat);
 
 /* Assign ncells cells of the given costs to nshards shards (0-based in
  * shard_of). load, when not NULL, gets each shard's summed cost

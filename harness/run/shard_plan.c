@@ -57,7 +57,7 @@ int plan_shard(const options *o, const rayset_t *replay, const char *out_dir, co
                     break;
                 }
                 int i = m.ncells++;
-                cost[i] = shard_cell_cost(ac->ops->name, prims, rays, o->repeat);
+                cost[i] = shard_cell_cost(ac->ops, prims, rays, o->repeat);
                 slot[i] = ((size_t)si * (size_t)nw + (size_t)wi) * (size_t)o->naccels + (size_t)ai;
                 m.cells[i] = (shard_cell){.index = i, .cost = cost[i], .key = strdup(key)};
                 if (!m.cells[i].key) status = 2;
