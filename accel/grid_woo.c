@@ -669,12 +669,8 @@ static inline __attribute__((always_inline)) bool walk(grid_t *g, accel_ctx *ctx
         tn[ax] = (g->planes[ax][idx[ax] + (step[ax] > 0)] - r.sr.org[ax]) * r.sr.inv[ax];
     }
 out:
-    if (counting) {
-        c->box_tests += nbox;
-        c->steps += nsteps;
-        c->empty_leaves += nempty;
-        c->mailbox_hits += nmbox;
-    }
+    if (counting)
+        counters_add(c, &(counters_t){.box_tests = nbox, .steps = nsteps, .empty_leaves = nempty, .mailbox_hits = nmbox});
     return shadow ? occluded : hit->prim != HIT_NONE;
 }
 

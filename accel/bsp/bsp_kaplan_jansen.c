@@ -403,12 +403,8 @@ static inline __attribute__((always_inline)) bool trace(bsp_t *t, accel_ctx *ctx
     case TRAV_HAVRAN: occ = walk_havran(&w, t0, t1, hit, c, shadow, counting); break;
     default: occ = walk_recursive(&w, t0, t1, hit, c, shadow, counting); break;
     }
-    if (counting) {
-        c->box_tests++;
-        c->steps += w.nsteps;
-        c->empty_leaves += w.nempty;
-        c->mailbox_hits += w.nmbox;
-    }
+    if (counting)
+        counters_add(c, &(counters_t){.box_tests = 1, .steps = w.nsteps, .empty_leaves = w.nempty, .mailbox_hits = w.nmbox});
     return shadow ? occ : hit->prim != HIT_NONE;
 }
 

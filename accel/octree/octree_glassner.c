@@ -713,12 +713,8 @@ exhaustive:
     }
 out:
     if (ctx) ctx->relocated += relocated;
-    if (counting) {
-        c->box_tests += nbox;
-        c->steps += nsteps;
-        c->empty_leaves += nempty;
-        c->mailbox_hits += nmbox;
-    }
+    if (counting)
+        counters_add(c, &(counters_t){.box_tests = nbox, .steps = nsteps, .empty_leaves = nempty, .mailbox_hits = nmbox});
     return shadow ? occluded : hit->prim != HIT_NONE;
 }
 
