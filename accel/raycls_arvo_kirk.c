@@ -71,7 +71,7 @@
 
 enum { BEAM_CONE = 0, BEAM_EXACT = 1 };
 
-static const accel_param rc_params[] = {
+static const accel_param rcls_params[] = {
     PARAM_ROW_INT_OR("maxdepth", "auto", "auto", 0, RC_DEPTH_MAX, "deepest hypercube: auto = 8 (lazy), 2 (lazy=off)"),
     PARAM_ROW_INT("maxcands", "16", 1, 1000000000L, "split a leaf whose candidate list is longer than this"),
     PARAM_ROW_REAL("truncate", "0", 0, 1e6, "partial lists (s6.4): drop candidates wholly D x (B's extent) past the origin box, 0 = off"),
@@ -857,7 +857,7 @@ const struct accel_ops accel_raycls = {
     .name = "raycls",
     .summary = "Arvo-Kirk ray classification: six lazily built 5-D hyper-octrees of rays, beam-culled sorted lists",
     .paper = "Arvo & Kirk, Fast Ray Tracing by Ray Classification, SIGGRAPH 1987; survey s6.1, s6.4, figs. 19, 22-24",
-    .params = rc_params,
+    .params = rcls_params,
     .flags = ACCEL_MUTATES,
     .build = rcls_build,
     .context_new = rcls_context_new,

@@ -113,7 +113,7 @@ static int check_fallback(const char *name)
     return ops && strcmp(name, "raycoh") && ops->intersect && !(ops->flags & (ACCEL_MUTATES | ACCEL_SHADOW_ONLY)) ? 0 : -1;
 }
 
-static const accel_param rc_params[] = {
+static const accel_param rcoh_params[] = {
     PARAM_ROW_INT("res", "8", 1, 64, "cells per direction-cube face side (6 res^2 cells per cluster)"),
     PARAM_ROW_INT("objsize", "64", 1, 65536,
                   "primitives per cluster at most (clusters: the kit's median BVH leaves; far from the origin none "
@@ -746,7 +746,7 @@ const struct accel_ops accel_raycoh = {
     .summary = "Ohta-Maekawa ray coherence: a direction cube per primitive cluster, candidate clusters by the "
                "coherence theorem's cone, depth-sorted; rays without an origin to a fallback",
     .paper = "Ohta & Maekawa, CG International 1987; Arvo & Kirk 1989 survey s6.1, s6.3, s6.5, figs. 19-21",
-    .params = rc_params,
+    .params = rcoh_params,
     .flags = 0,
     .build = rcoh_build,
     .context_new = rcoh_context_new,
