@@ -17,6 +17,7 @@
  * prims/ interface itself. */
 #include <stdlib.h>
 #include "../accel.h"
+#include "../common/prim_hit.h"
 
 static const accel_param exhaustive_params[] = {PARAM_ROW_END};
 
@@ -38,11 +39,9 @@ static inline __attribute__((always_inline)) bool scan(const accel *a, const ray
     const prims_t *p = &a->scene->prims;
     for (uint32_t id = 0; id < p->count; id++) {
         if (shadow) {
-            if (counting ? prim_occluded(p, id, ray, c) : prim_occluded_fast(p, id, ray)) return true;
-        } else if (counting) {
-            prim_intersect(p, id, ray, hit, c);
+            if (prim_test_any(p, id, ray, c, counting)) return true;
         } else {
-            prim_intersect_fast(p, id, ray, hit);
+            prim_test_closest(p, id, ray, hit, c, counting);
         }
     }
     return shadow ? false : hit->prim != HIT_NONE;

@@ -28,6 +28,7 @@
 #include <stdlib.h>
 #include "../../accel/accel.h"
 #include "../../accel/common/memcap.h"
+#include "../../accel/common/prim_hit.h"
 #include "../../accel/common/slab.h"
 
 /* Its own cap on what it allocates, in MiB (the harness's --memcap bounds it). */
@@ -89,11 +90,9 @@ static inline __attribute__((always_inline)) bool scan(const boxlist *b, const r
             if (!slab_clip_robust(&sr, &b->boxes[id], &t0, &t1)) continue;
         }
         if (shadow) {
-            if (counting ? prim_occluded(p, id, ray, c) : prim_occluded_fast(p, id, ray)) return true;
-        } else if (counting) {
-            prim_intersect(p, id, ray, hit, c);
+            if (prim_test_any(p, id, ray, c, counting)) return true;
         } else {
-            prim_intersect_fast(p, id, ray, hit);
+            prim_test_closest(p, id, ray, hit, c, counting);
         }
     }
     return shadow ? false : hit->prim != HIT_NONE;
