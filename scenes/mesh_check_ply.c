@@ -6,7 +6,7 @@
  * taken modulo 2^32) took 80 s and 21 GB before failing the same way. It
  * also loops forever on a header that ends before its end_header line (a
  * truncated file), and crashed or hung on a control character after
- * end_header. So the header must be text and is read as assimp reads it,
+ * end_header or a NUL inside the header. So the header must be text and is read as assimp reads it,
  * every element count must fit in the bytes after it at the least one
  * instance takes,
  * and the body is walked element by element as the header declares it,
@@ -189,10 +189,32 @@ static int walk_binary(const ply_header *h, const char *data, const char *p, con
     return 0;
 }
 
+/* A NUL byte in the header, up to the line that starts with end_header:
+ * the line checks below read each line as a C string and would stop at it,
+ * while assimp reads on past it (and looped forever on a misspelt format
+ * line followed by one). -1 with its line. */
+static int header_nul(const char *data, const char *end, const char *path, char *err, size_t errlen)
+{
+    unsigned line = 1;
+    for (const char *c = data; c < end; c++) {
+        if (*c == '\0') {
+            snprintf(err, errlen, "%s: line %u: byte 0x00 in the PLY header, which is text", path, line);
+            return -1;
+        }
+        if (*c != '\n') continue;
+        line++;
+        const char *w = c + 1;
+        while (w < end && (*w == ' ' || *w == '\t')) w++;
+        if ((size_t)(end - w) >= 10 && memcmp(w, "end_header", 10) == 0) return 0;
+    }
+    return 0;
+}
+
 int mesh_check_ply(const char *data, size_t size, const char *path, char *err, size_t errlen)
 {
     mesh_lines r = {data, data + size, 0, false, {0}};
     ply_header h = {.whole = true};
+    if (header_nul(data, data + size, path, err, errlen)) return -1;
     for (const char *l; (l = mesh_next_line(&r));) {
         /* Header lines are text: assimp takes no other blank than a space or a tab, and hung or crashed on
          * "end_header" followed by a vertical tab. */
