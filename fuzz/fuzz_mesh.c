@@ -4,11 +4,10 @@
  * picks the format (the extension assimp goes by), the rest is the file.
  * The same bytes also go through the project's OBJ pre-check alone
  * (mesh_precheck), which must accept or refuse them with a reason; assimp's
- * OBJ reader is fuzz_obj's, because it costs about 60 ms an input here
- * against 0.3 ms for the others (it allocates, fills and frees stream
- * buffers of 16 MiB per file, fresh mappings each time under ASan's
- * allocator), which would hold this harness at a few hundred inputs a
- * second. The path is in a folder that does not exist, so files a mesh
+ * OBJ reader is fuzz_obj's: it allocates and fills a stream buffer of
+ * 16 MiB per file, which costs even from a reused mapping
+ * (fuzz/large_blocks.cc) a few times what a PLY, OFF or STL input does,
+ * and would slow this harness's other formats with it. The path is in a folder that does not exist, so files a mesh
  * names are never found.
  *
  * assimp runs in this process (scene_mesh_from_memory_in_process), not in
