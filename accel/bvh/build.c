@@ -29,6 +29,7 @@ void bvh_config_defaults(bvh_config *cfg)
     cfg->min_leaf = 0;
     cfg->bins = 16;
     cfg->small_bins = false;
+    cfg->bin_node_box = false;
     cfg->cost_traversal = 1.0f;
     cfg->cost_intersect = 1.0f;
     cfg->leaf_block = 1;

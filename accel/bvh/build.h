@@ -83,7 +83,7 @@ typedef struct {
     double cost;
     int axis;
     uint32_t slot, bins;  /* the cut: after bin slot of bins (bvh_sah_bins) */
-    box3 cb, left, right; /* centroid bounds; the sides' boxes */
+    box3 cb, left, right; /* the range binned (centroid bounds, or the node's box); the sides' boxes */
 } bvh_sah_choice;
 /* The bins a node of n primitives is binned into: cfg->bins, or with
  * cfg->small_bins min(cfg->bins, 4 + n / 20). */

@@ -89,6 +89,8 @@ typedef struct {
     bool small_bins;      /* binned SAH: a node of n primitives binned into min(bins, 4 + n / 20) slots, Embree's
                            * rule (its BinMapping), which spares small nodes the set-up and sweeps of every bin
                            * (default false: bins for every node) */
+    bool bin_node_box;    /* binned SAH: the bins span the node's box instead of its centroids' bounds (tinybvh's
+                           * binning; default false: the centroids' bounds, as Wald 2007 and Embree bin) */
     float cost_traversal; /* SAH: cost of visiting a node (default 1) */
     float cost_intersect; /* SAH: cost of one primitive test (default 1) */
     uint32_t leaf_block;  /* SAH: a leaf's primitives are tested leaf_block at a time, so n cost as

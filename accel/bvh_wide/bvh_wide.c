@@ -62,6 +62,9 @@ static const accel_param champ_params[] = {
     PARAM_ROW_INT("bins", "16", 2, 256, "binned SAH: bins per axis (Wald 2007)"),
     PARAM_ROW_BOOL("smallbins", "on", "split=object: on: a node of n primitives binned into min(bins, 4 + n/20) slots "
                                       "(Embree's rule); off: bins (split=sbvh: always off)"),
+    PARAM_ROW_CHOICE("binrange", "node", "node|centroids",
+                     "binned SAH: the bins span the node's box (as tinybvh bins) or its centroids' bounds (Wald 2007, "
+                     "Embree)"),
     PARAM_ROW_INT("leafsize", "4", 1, 32, "largest leaf the SAH builder may make"),
     PARAM_ROW_INT("minleaf", "0", 0, 32, "a node of at most this many primitives is always a leaf (Embree's minLeafSize)"),
     PARAM_ROW_INT("bigleaf", "0", 0, WIDE_MAX_LEAF,
@@ -183,7 +186,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
     const int wsel = params_choice(params, "width"), by_size = params_choice(params, "slots"),
               embree_tree = params_choice(params, "tree"), sbvh = params_choice(params, "split"),
               exact_bins = params_choice(params, "binning"), octant = params_choice(params, "order"),
-              fma = params_choice(params, "fma");
+              fma = params_choice(params, "fma"), binrange = params_choice(params, "binrange");
     const bool small_bins = params_bool(params, "smallbins"), packets = params_bool(params, "packets"),
                compress = params_bool(params, "compress");
     const long bins = params_int(params, "bins"), leafsize = params_int(params, "leafsize"),
@@ -245,6 +248,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
      * Sponza 92 instead of 87) and no faster build (the spatial bins
      * dominate it). */
     cfg.small_bins = small_bins && !sbvh;
+    cfg.bin_node_box = binrange == 0;
     cfg.max_leaf = (uint32_t)leafsize;
     cfg.min_leaf = (uint32_t)minleaf;
     cfg.cost_traversal = (float)travcost;
@@ -410,7 +414,7 @@ const wide_bvh *bvh_wide_tree(const accel *a, wide_isa *isa)
 /* Every width with every instruction set this CPU has (the conformance
  * suite cannot skip a variant that this machine refuses, so the list is
  * made at start-up from the CPU), and the leaf and bin settings. */
-static const char *champ_variants[2 * WIDE_ISA_COUNT + 20];
+static const char *champ_variants[2 * WIDE_ISA_COUNT + 21];
 __attribute__((constructor)) static void champ_fill_variants(void)
 {
     static const char *const all[2][WIDE_ISA_COUNT] = {
@@ -428,9 +432,10 @@ __attribute__((constructor)) static void champ_fill_variants(void)
     champ_variants[n++] = "packets=off";
     champ_variants[n++] = "leafsize=16,bins=4";
     champ_variants[n++] = "smallbins=off";
+    champ_variants[n++] = "binrange=centroids";
     champ_variants[n++] = "order=octant";
     champ_variants[n++] = "order=octant,width=4,isa=scalar";
-    champ_variants[n++] = "minleaf=4,bigleaf=28,travcost=4,slots=size";
+    champ_variants[n++] = "minleaf=4,bigleaf=28,travcost=4,slots=size,binrange=centroids";
     champ_variants[n++] = "tree=embree";
     champ_variants[n++] = "fma=off";
     champ_variants[n++] = "fma=on,isa=scalar";
