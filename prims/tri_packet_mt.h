@@ -125,6 +125,9 @@ TRI_PACKET_MT_FN unsigned tripk_mt_hits(const prim_tri_packet *pk, unsigned live
                      pz = tripk_mt_msub4(dx, e2y, dy, e2x, F);
         const __m128 qx = tripk_mt_msub4(sy, e1z, sz, e1y, F), qy = tripk_mt_msub4(sz, e1x, sx, e1z, F),
                      qz = tripk_mt_msub4(sx, e1y, sy, e1x, F);
+        /* Every lane divided, with no early out: skipping the division
+         * for a packet with no lane inside was slower (docs/accels/
+         * wide-bvh.md, Measured). */
         const __m128 det = tripk_mt_dot4(e1x, e1y, e1z, px, py, pz, F), inv = _mm_div_ps(_mm_set1_ps(1.0f), det);
         const __m128 U = _mm_mul_ps(tripk_mt_dot4(sx, sy, sz, px, py, pz, F), inv);
         const __m128 V = _mm_mul_ps(tripk_mt_dot4(dx, dy, dz, qx, qy, qz, F), inv);
