@@ -11,7 +11,9 @@
  *               over the scene's box (origins in box planes); the counting-free
  *               methods give the same answers; an ISA the CPU lacks is
  *               skipped here by an explicit check (and refused by build);
- *               packets=off (leaves through refs) the same as packets=on
+ *               packets=off (leaves through refs) the same as packets=on;
+ *               robust=off (Moller-Trumbore packets, plain box constants)
+ *               the same way on the bunny and gen:room
  *   tree        wide_check on every tree built here: slots contain their
  *               children, unused slots empty, each primitive in one leaf,
  *               the counts and statistics right; avg_children within 2..W
@@ -59,7 +61,12 @@
  *               fma=on where the SSE4.2 kernel runs (isa=sse42, width=2)
  *   settle      isa=auto settles to the ISA build() picks, fma=auto to on
  *               under AVX2 and AVX-512 and off under scalar; smallbins to
- *               off under split=sbvh */
+ *               off under split=sbvh
+ *   robust=off  answers against exhaustive (watertight) on the bunny under
+ *               fma=on and off, scalar and SIMD: the same but at edges (a
+ *               closest hit's t within a relative 1e-4, the primitive
+ *               free only then; rays that differ more at most 1 in 10^4);
+ *               robust=on by default, the params saying robust */
 #include <math.h>
 #include <string.h>
 #include "accel/bvh_wide/bvh_wide.h"
@@ -210,8 +217,10 @@ static void simd_vs_scalar(const scene_t *s, accel *embree, int res, const char 
                        (unsigned long long)rays, nsets, check_failed == before ? "bit-identical to scalar" : "DIFFER");
                 a->ops->destroy(a);
             }
-            if (!fused) {
-                /* Leaves through refs instead of packets: the same answers and counters. */
+            if (!fused && !strstr(extra, "robust=off")) {
+                /* Leaves through refs instead of packets: the same answers
+                 * and counters (not under robust=off: refs keep prims/'
+                 * watertight tests). */
                 snprintf(cfg, sizeof cfg, "width=%d,isa=scalar,fma=off,packets=off%s", width, extra);
                 accel *a = champ_with(s, cfg);
                 check_tree(a, cfg);
@@ -248,6 +257,9 @@ static void test_simd(void)
         /* compress=on: every ISA's decoding of the quantised planes gives the scalar one's answers and counters */
         simd_vs_scalar(s, embree, SIMD_RES_VARIANT, ",compress=on");
         if (i == 2) simd_vs_scalar(s, embree, SIMD_RES_VARIANT, ",leafsize=1"); /* leafsize=1 on the bunny */
+        /* robust=off: every ISA's Moller-Trumbore packets and plain box constants give the scalar reference's
+         * answers and counters (the scenes of triangles, which have packets) */
+        if (i >= 2) simd_vs_scalar(s, embree, SIMD_RES_VARIANT, ",robust=off");
         embree->ops->destroy(embree);
         scene_free(s);
     }
@@ -807,6 +819,69 @@ static void test_compress(void)
     scene_free(s);
 }
 
+/* robust=off against exhaustive on the bunny: the same answers except at
+ * edges. A closest hit agrees when both miss or both hit at distances
+ * within a relative 1e-4 (the primitive may then differ: the two sides of
+ * an edge), an any hit when the answers are equal; the rest (a ray slipping
+ * through an edge, a graze one test sees and the other not) at most 1 in
+ * 10^4 rays. robust is on by default and in the params. */
+static void test_robust_off(void)
+{
+    scene_t *s = test_scene("bunny");
+    accel *ex = test_build("exhaustive", s, 1);
+    static const char *const cfgs[] = {"robust=off", "robust=off,fma=off", "robust=off,width=4,isa=scalar,fma=on"};
+    accel *a[3];
+    for (int k = 0; k < 3; k++) a[k] = champ_with(s, cfgs[k]);
+    workload_opts o = test_wl(32, 32, 1);
+    uint64_t rays = 0, exact[3] = {0}, tol[3] = {0}, differ[3] = {0};
+    for (int w = 0; workload_table[w].name; w++) {
+        rayset_t *rs = workload_table[w].make(s, ex, &o);
+        answers_t *want = test_trace(ex, rs, 1);
+        for (int k = 0; k < 3; k++) {
+            answers_t *got = test_trace(a[k], rs, 1);
+            for (uint32_t i = 0; i < rs->count; i++) {
+                if (rs->query == QUERY_ANY) {
+                    if (want->occluded[i] == got->occluded[i]) exact[k]++;
+                    else differ[k]++;
+                    continue;
+                }
+                const hit_t *x = &want->hits[i], *y = &got->hits[i];
+                const bool hx = x->prim != HIT_NONE, hy = y->prim != HIT_NONE;
+                if (!hx && !hy) exact[k]++;
+                else if (hx != hy) differ[k]++;
+                else if (x->prim == y->prim && x->t == y->t) exact[k]++;
+                else if (fabsf(x->t - y->t) <= 1e-4f * fmaxf(fabsf(x->t), fabsf(y->t))) tol[k]++;
+                else differ[k]++;
+            }
+            answers_free(got);
+        }
+        rays += rs->count;
+        answers_free(want);
+        rayset_free(rs);
+    }
+    for (int k = 0; k < 3; k++) {
+        CHECK_MSG(differ[k] * 10000 <= rays, "bunny [%s]: %llu of %llu rays differ from exhaustive beyond the tolerance",
+                  cfgs[k], (unsigned long long)differ[k], (unsigned long long)rays);
+        printf("bunny [%s]: %llu rays, %llu the same, %llu within the tolerance, %llu beyond (edges)\n", cfgs[k],
+               (unsigned long long)rays, (unsigned long long)exact[k], (unsigned long long)tol[k],
+               (unsigned long long)differ[k]);
+        a[k]->ops->destroy(a[k]);
+    }
+    ex->ops->destroy(ex);
+    /* robust=on by default; the params say robust either way. */
+    accel_params p;
+    params_defaults(&p, accel_find("bvh")->params);
+    accel_settle_params(accel_find("bvh"), &p);
+    char fmt[1024], perr[256];
+    params_format(&p, fmt, sizeof fmt);
+    CHECK_MSG(!strcmp(params_get(&p, "robust"), "on") && strstr(fmt, "robust=on"), "defaults: %s", fmt);
+    CHECK(params_set(&p, "robust", "off", perr, sizeof perr) == 0);
+    accel_settle_params(accel_find("bvh"), &p);
+    params_format(&p, fmt, sizeof fmt);
+    CHECK_MSG(strstr(fmt, "robust=off") != NULL, "robust=off: %s", fmt);
+    scene_free(s);
+}
+
 int main(void)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -822,5 +897,6 @@ int main(void)
     test_octant();
     test_embree_rules();
     test_compress();
+    test_robust_off();
     return check_report();
 }

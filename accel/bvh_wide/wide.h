@@ -329,24 +329,26 @@ typedef struct {
 
 /* The kernels of isa for width 2, 4 or 8 (those of
  * wide_isa_running(isa, width)), on quantised nodes (compress=on, width 8)
- * or not, with fma=on's fused distances or not; NULL when this build or
- * that ISA has none for it (a non-x86 target: only scalar; fma=on under
- * SSE4.2, which has no fused multiply-add). */
-const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width, bool quantized, bool fused);
+ * or not, with fma=on's fused distances or not, robust=on's conservative
+ * box test and watertight triangle packets or robust=off's plain ones
+ * (wide_walk.h); NULL when this build or that ISA has none for it (a
+ * non-x86 target: only scalar; fma=on under SSE4.2, which has no fused
+ * multiply-add). */
+const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width, bool quantized, bool fused, bool robust);
 
 /* For tests: the reference kernel's hit mask for box in slot 0 of an
  * 8-wide node whose other slots are empty, against ray's [tnear, tfar],
  * with fma=on's arithmetic (fused) or fma=off's. */
 unsigned wide_box_probe(const ray_t *ray, box3 box, bool fused);
 
-/* Per ISA the kernels by node layout and [fused] (wide_traverse_*.c); an
- * entry an ISA lacks is all NULL. */
+/* Per ISA the kernels by node layout, [fused] and [robust] (0: off, 1:
+ * on; wide_traverse_*.c); an entry an ISA lacks is all NULL. */
 enum { WIDE_LAYOUT_2, WIDE_LAYOUT_4, WIDE_LAYOUT_8, WIDE_LAYOUT_8Q, WIDE_LAYOUTS };
-extern const wide_kernels wide_kernels_scalar[WIDE_LAYOUTS][2];
+extern const wide_kernels wide_kernels_scalar[WIDE_LAYOUTS][2][2];
 #if defined(__x86_64__) || defined(__i386__)
-extern const wide_kernels wide_kernels_sse42[WIDE_LAYOUTS][2];
-extern const wide_kernels wide_kernels_avx2[WIDE_LAYOUTS][2];
-extern const wide_kernels wide_kernels_avx512[WIDE_LAYOUTS][2];
+extern const wide_kernels wide_kernels_sse42[WIDE_LAYOUTS][2][2];
+extern const wide_kernels wide_kernels_avx2[WIDE_LAYOUTS][2][2];
+extern const wide_kernels wide_kernels_avx512[WIDE_LAYOUTS][2][2];
 #endif
 
 #ifdef __cplusplus

@@ -32,7 +32,7 @@ wide_isa wide_isa_running(wide_isa isa, uint32_t width)
     return width == 2 && isa != WIDE_ISA_SCALAR && isa < WIDE_ISA_COUNT ? WIDE_ISA_SSE42 : isa;
 }
 
-const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width, bool quantized, bool fused)
+const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width, bool quantized, bool fused, bool robust)
 {
     const int layout = quantized    ? WIDE_LAYOUT_8Q
                        : width == 8 ? WIDE_LAYOUT_8
@@ -41,11 +41,11 @@ const wide_kernels *wide_kernels_for(wide_isa isa, uint32_t width, bool quantize
     if (quantized && width != 8) return NULL;
     const wide_kernels *k = NULL;
     switch (wide_isa_running(isa, width)) { /* at width 2: scalar or sse42, the tables that have it */
-    case WIDE_ISA_SCALAR: k = &wide_kernels_scalar[layout][fused]; break;
+    case WIDE_ISA_SCALAR: k = &wide_kernels_scalar[layout][fused][robust]; break;
 #if defined(__x86_64__) || defined(__i386__)
-    case WIDE_ISA_SSE42: k = &wide_kernels_sse42[layout][fused]; break;
-    case WIDE_ISA_AVX2: k = &wide_kernels_avx2[layout][fused]; break;
-    case WIDE_ISA_AVX512: k = &wide_kernels_avx512[layout][fused]; break;
+    case WIDE_ISA_SSE42: k = &wide_kernels_sse42[layout][fused][robust]; break;
+    case WIDE_ISA_AVX2: k = &wide_kernels_avx2[layout][fused][robust]; break;
+    case WIDE_ISA_AVX512: k = &wide_kernels_avx512[layout][fused][robust]; break;
 #endif
     default: return NULL;
     }

@@ -10,8 +10,11 @@
  * and multiplies by the (far-scaled) reciprocal, fma=on (F) takes one
  * fused multiply-add a plane with the ray's directed constants
  * (wide_fused_init); the planes are read as floats from a node's rows,
- * or decoded from a quantised wide8q_node's bytes (compress=on). */
+ * or decoded from a quantised wide8q_node's bytes (compress=on). Each
+ * entry point comes in robust=on and robust=off (wide_walk.h). */
 #include <immintrin.h>
+#define TRI_PACKET_MT_SSE /* robust=off's packet test: SSE lanes, VEX-encoded, */
+#define TRI_PACKET_MT_FMA /* fused under fma=on */
 #include "wide_walk.h"
 
 /* Row `row` (axis ax's near or far planes) of the 8 children: from rows,
@@ -120,9 +123,9 @@ WIDE_ENTRY_POINTS(WIDE_AVX_NAME(8f), 8, false, true, box8f)
 WIDE_ENTRY_POINTS(WIDE_AVX_NAME(8qf), 8, true, true, box8qf)
 
 /* No width 2: BVH2 nodes run the SSE4.2 kernel (wide_isa_running). */
-const wide_kernels WIDE_AVX_TABLE[WIDE_LAYOUTS][2] = {
-    {{0}},
-    {WIDE_KERNELS(WIDE_AVX_NAME(4)), WIDE_KERNELS(WIDE_AVX_NAME(4f))},
-    {WIDE_KERNELS(WIDE_AVX_NAME(8)), WIDE_KERNELS(WIDE_AVX_NAME(8f))},
-    {WIDE_KERNELS(WIDE_AVX_NAME(8q)), WIDE_KERNELS(WIDE_AVX_NAME(8qf))},
+const wide_kernels WIDE_AVX_TABLE[WIDE_LAYOUTS][2][2] = {
+    {{{0}}},
+    {WIDE_KERNELS_RO(WIDE_AVX_NAME(4)), WIDE_KERNELS_RO(WIDE_AVX_NAME(4f))},
+    {WIDE_KERNELS_RO(WIDE_AVX_NAME(8)), WIDE_KERNELS_RO(WIDE_AVX_NAME(8f))},
+    {WIDE_KERNELS_RO(WIDE_AVX_NAME(8q)), WIDE_KERNELS_RO(WIDE_AVX_NAME(8qf))},
 };

@@ -3,7 +3,9 @@
  * C with no target attribute, with fma=off's arithmetic and with fma=on's
  * (fmaf: exact, as the SIMD kernels' instruction is). The SIMD kernels
  * (wide_traverse_sse42.c, _avx2.c, _avx512.c) must give its hits and
- * counters bit for bit (tests/test_champion.c checks it ray for ray). */
+ * counters bit for bit (tests/test_champion.c checks it ray for ray).
+ * robust=off's packet test here is prims/tri_packet_mt.h's reference, the
+ * lanes one at a time in plain C (fmaf under fma=on). */
 #include <string.h>
 #include "wide_walk.h"
 
@@ -43,11 +45,11 @@ WIDE_ENTRY_POINTS(scalar4f, 4, false, true, box4f)
 WIDE_ENTRY_POINTS(scalar8f, 8, false, true, box8f)
 WIDE_ENTRY_POINTS(scalar8qf, 8, true, true, box8qf)
 
-const wide_kernels wide_kernels_scalar[WIDE_LAYOUTS][2] = {
-    {WIDE_KERNELS(scalar2), WIDE_KERNELS(scalar2f)},
-    {WIDE_KERNELS(scalar4), WIDE_KERNELS(scalar4f)},
-    {WIDE_KERNELS(scalar8), WIDE_KERNELS(scalar8f)},
-    {WIDE_KERNELS(scalar8q), WIDE_KERNELS(scalar8qf)},
+const wide_kernels wide_kernels_scalar[WIDE_LAYOUTS][2][2] = {
+    {WIDE_KERNELS_RO(scalar2), WIDE_KERNELS_RO(scalar2f)},
+    {WIDE_KERNELS_RO(scalar4), WIDE_KERNELS_RO(scalar4f)},
+    {WIDE_KERNELS_RO(scalar8), WIDE_KERNELS_RO(scalar8f)},
+    {WIDE_KERNELS_RO(scalar8q), WIDE_KERNELS_RO(scalar8qf)},
 };
 
 unsigned wide_box_probe(const ray_t *ray, box3 box, bool fused)
@@ -62,6 +64,6 @@ unsigned wide_box_probe(const ray_t *ray, box3 box, bool fused)
         }
     wide_ray r;
     float tn[8];
-    if (!wide_ray_init(&r, ray, fused)) return 0;
+    if (!wide_ray_init(&r, ray, fused, true)) return 0;
     return wide_box_scalar(&r, &nd.box[0][0], 8, r.t0, r.tfar, tn, fused);
 }

@@ -7,6 +7,7 @@
 #include <immintrin.h>
 #include <string.h>
 #define WIDE_TARGET __attribute__((target("sse4.2")))
+#define TRI_PACKET_MT_SSE /* robust=off's packet test on SSE lanes (unfused: no fma here) */
 #include "wide_walk.h"
 
 /* Four floats of row `row` from slot `off` (rows `stride` floats apart): a
@@ -83,6 +84,6 @@ WIDE_ENTRY_POINTS(sse8, 8, false, false, box8)
 WIDE_ENTRY_POINTS(sse8q, 8, true, false, box8q)
 
 /* No fma=on: SSE4.2 has no fused multiply-add. */
-const wide_kernels wide_kernels_sse42[WIDE_LAYOUTS][2] = {
-    {WIDE_KERNELS(sse2)}, {WIDE_KERNELS(sse4)}, {WIDE_KERNELS(sse8)}, {WIDE_KERNELS(sse8q)}};
+const wide_kernels wide_kernels_sse42[WIDE_LAYOUTS][2][2] = {
+    {WIDE_KERNELS_RO(sse2)}, {WIDE_KERNELS_RO(sse4)}, {WIDE_KERNELS_RO(sse8)}, {WIDE_KERNELS_RO(sse8q)}};
 #endif

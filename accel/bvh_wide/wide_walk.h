@@ -47,6 +47,11 @@
  * fma=on (wide_fused_init below) computes each plane's distance with one
  * fused multiply-add and directed per-ray constants instead, conservative
  * with no far scale; the interval and the comparison are the same.
+ * robust=off (R false, a compile-time constant as F is) keeps the kernels
+ * and the interval but feeds them plain constants (wide_ray_init: no far
+ * scale, no directed rounding), so the box test is exact only to
+ * rounding, and tests the packets by Moller and Trumbore's test
+ * (prims/tri_packet_mt.h) instead of the watertight one, with no shear.
  * The SIMD kernels give the scalar one's distances bit for bit (no
  * contraction: the build has -ffp-contract=off; fma=on's fused
  * multiply-adds are fmaf in the scalar kernel, and compress=on's decoding
@@ -74,19 +79,25 @@
  * ray's shear set up again. */
 #define TRI_PACKET_TARGET WIDE_TARGET
 #include "../../prims/tri_packet.h"
+/* robust=off's Moller-Trumbore packet test, likewise inlined (its SIMD
+ * body where the includer defines TRI_PACKET_MT_SSE, fused where it
+ * defines TRI_PACKET_MT_FMA; else the reference's lanes in plain C). */
+#include "../../prims/tri_packet_mt.h"
 
 /* Per-ray constants of the box kernels. */
 typedef struct {
     float org[3], inv[3];       /* origin, 1 / direction (+-inf for +-0) */
-    float inv_far[3];           /* inv * SLAB_FAR_SCALE: the far planes' robust reciprocal */
-    float nmul[3], nsub[3];     /* fma=on: a near plane's distance is fma(plane, nmul, -nsub) (wide_fused_init) */
+    float inv_far[3];           /* inv * SLAB_FAR_SCALE: the far planes' robust reciprocal (robust=off: inv) */
+    float nmul[3], nsub[3];     /* fma=on: a near plane's distance is fma(plane, nmul, -nsub) (wide_fused_init;
+                                 * robust=off: inv and org * inv) */
     float fmul[3], fsub[3];     /* and a far plane's fma(plane, fmul, -fsub) */
     float t0, tfar;             /* the ray's tnear, at least -FLT_MAX, and tfar, at most FLT_MAX */
     uint32_t near[3], far[3];   /* per axis the box row of the near and far plane: 2 axis + (inv < 0) and the other */
     uint32_t oct;               /* the octant whose order the walk takes (WIDE_ORDER) */
     bool backwards;             /* and whether backwards: x < 0, the opposite octant's order */
     bool sheared;               /* ray_shear's answer for the packet tests: false, no triangle can be hit */
-    shear_t shear;              /* the ray's watertight shear (prims/shear.h), once per ray instead of per leaf */
+    shear_t shear;              /* the ray's watertight shear (prims/shear.h), once per ray instead of per leaf;
+                                 * robust=off: neither set (its packet test needs no shear) */
 } wide_ray;
 
 /* fma=on's per-ray constants: per axis, a near plane pl's entry distance
@@ -137,8 +148,18 @@ WIDE_FN void wide_fused_init(wide_ray *r, const float org[3], const float dir[3]
  * infinite component, a zero direction). The fields are slab_ray_init's,
  * written one by one: copying them out of a slab_ray made the compiler
  * move them through the stack in pieces that stalled store forwarding (8 %
- * of the walk's time in perf). */
-WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray, const bool F)
+ * of the walk's time in perf).
+ * R (robust=on) as above. robust=off (!R): the plain constants of a
+ * non-conservative box test, as Embree's default and tinybvh use: the far
+ * planes take inv itself (no SLAB_FAR_SCALE), and fma=on's constants are
+ * inv and org * inv rounded to nearest (no directed rounding), so a plane's
+ * distance is (plane - org) * inv, or fma(plane, inv, -org * inv); a box
+ * the exact ray grazes may be missed by a rounding. Along a zero direction
+ * component inv is +-inf and fma=on's distances may be NaN (inf - inf,
+ * 0 * inf), which the max and min drop: that slab then clips nothing (a
+ * box taken that the robust test would reject, never one missed). No
+ * shear: robust=off's triangle test does not use it. */
+WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray, const bool F, const bool R)
 {
     const vec3 o = ray->org, d = ray->dir;
     if (!v3_finite(o) || !v3_finite(d) || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f)) return false;
@@ -148,7 +169,7 @@ WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray, const bool F)
         uint32_t neg = inv < 0.0f;
         r->org[a] = org[a];
         r->inv[a] = inv;
-        r->inv_far[a] = inv * SLAB_FAR_SCALE;
+        r->inv_far[a] = R ? inv * SLAB_FAR_SCALE : inv;
         r->near[a] = 2 * a + neg;
         r->far[a] = 2 * a + 1 - neg;
     }
@@ -160,8 +181,13 @@ WIDE_FN bool wide_ray_init(wide_ray *r, const ray_t *ray, const bool F)
      * up per leaf), not lazily at the first packed leaf, which is slower on
      * most rays; it costs the rays that meet no leaf (docs/accels/
      * wide-bvh.md, Measured). */
-    r->sheared = ray_shear(d, &r->shear);
-    if (F) wide_fused_init(r, org, dir);
+    if (R) r->sheared = ray_shear(d, &r->shear);
+    if (F && R) wide_fused_init(r, org, dir);
+    if (F && !R)
+        for (uint32_t a = 0; a < 3; a++) {
+            r->nmul[a] = r->fmul[a] = r->inv[a];
+            r->nsub[a] = r->fsub[a] = org[a] * r->inv[a];
+        }
     r->t0 = ray->tnear > -FLT_MAX ? ray->tnear : -FLT_MAX; /* rayset.c refuses NaN tnear and tfar */
     r->tfar = ray->tfar < FLT_MAX ? ray->tfar : FLT_MAX;
     return true;
@@ -227,11 +253,19 @@ WIDE_FN unsigned wide_box_scalar_q(const wide_ray *r, const wide8q_node *nd, flo
     return mask & ((1u << nd->nchildren) - 1);
 }
 
+/* A leaf: its packets by the watertight test (R) or robust=off's
+ * Moller-Trumbore test (fused as the box test is, F), or its refs through
+ * prims/ (the same tests either way: prims/' own, watertight). */
 WIDE_FN bool wide_leaf(const wide_bvh *w, const prims_t *p, const wide_ray *r, uint32_t child, uint32_t count,
-                       const ray_t *ray, hit_t *hit, counters_t *c, const bool shadow, const bool counting)
+                       const ray_t *ray, hit_t *hit, counters_t *c, const bool shadow, const bool counting,
+                       const bool F, const bool R)
 {
     if (child & WIDE_PACKED) {
         const prim_tri_packet *pk = w->packets + (child & WIDE_INDEX);
+        if (!R) {
+            if (shadow) return tripk_mt_occluded(pk, count, ray, c, counting, F);
+            return tripk_mt_intersect(pk, count, ray, hit, c, counting, F);
+        }
         if (shadow) return tripk_occluded(&r->shear, r->sheared, pk, count, ray, c, counting);
         return tripk_intersect(&r->shear, r->sheared, pk, count, ray, hit, c, counting);
     }
@@ -284,10 +318,11 @@ WIDE_FN void wide_prefetch(const wide_bvh *w, uint32_t ch, const uint32_t W, con
  * primary rays, 2-5 % without). */
 WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray,
                                hit_t *hit, counters_t *c, const uint32_t W, const bool Q, const bool F,
-                               const wide_box_fn box, const bool shadow, const bool counting, const bool octant)
+                               const bool R, const wide_box_fn box, const bool shadow, const bool counting,
+                               const bool octant)
 {
     wide_ray r;
-    if (!w->nnodes || !wide_ray_init(&r, ray, F)) return false;
+    if (!w->nnodes || !wide_ray_init(&r, ray, F, R)) return false;
     uint64_t nbox = 0, nsteps = 0;
     uint32_t sp = 0, cur = 0;
     bool occluded = false;
@@ -380,7 +415,7 @@ WIDE_FN bool wide_walk_ordered(const wide_bvh *w, const prims_t *p, wide_entry *
                 break;
             }
             nsteps++;
-            if (wide_leaf(w, p, &r, e.child, e.count, ray, hit, c, shadow, counting) && shadow) {
+            if (wide_leaf(w, p, &r, e.child, e.count, ray, hit, c, shadow, counting, F, R) && shadow) {
                 occluded = true;
                 goto done;
             }
@@ -395,42 +430,51 @@ done:
 }
 
 WIDE_FN bool wide_walk(const wide_bvh *w, const prims_t *p, wide_entry *stack, const ray_t *ray, hit_t *hit,
-                       counters_t *c, const uint32_t W, const bool Q, const bool F, const wide_box_fn box,
-                       const bool shadow, const bool counting)
+                       counters_t *c, const uint32_t W, const bool Q, const bool F, const bool R,
+                       const wide_box_fn box, const bool shadow, const bool counting)
 {
     if (!shadow && w->octant_order)
-        return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, F, box, false, counting, true);
-    return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, F, box, shadow, counting, false);
+        return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, F, R, box, false, counting, true);
+    return wide_walk_ordered(w, p, stack, ray, hit, c, W, Q, F, R, box, shadow, counting, false);
 }
 
-/* The four entry points of width W with kernel BOX (Q: on quantised
- * nodes; F: BOX computes fma=on's fused distances), as functions named
- * PREFIX_intersect etc. and a wide_kernels initialiser. */
+/* The entry points of width W with kernel BOX (Q: on quantised nodes; F:
+ * BOX computes fma=on's fused distances), as functions named
+ * PREFIX_intersect etc. (robust=on) and PREFIX_mt_intersect etc.
+ * (robust=off: the box constants and triangle test of wide_ray_init and
+ * wide_leaf), and a wide_kernels initialiser of each. */
 #define WIDE_ENTRY_POINTS(PREFIX, W, Q, F, BOX) WIDE_ENTRY_POINTS_(PREFIX, W, Q, F, BOX) /* PREFIX expanded first */
-#define WIDE_ENTRY_POINTS_(PREFIX, W, Q, F, BOX)                                                                              \
+#define WIDE_ENTRY_POINTS_(PREFIX, W, Q, F, BOX)                                                                      \
+    WIDE_ENTRY_POINTS_R(PREFIX, W, Q, F, true, BOX)                                                                    \
+    WIDE_ENTRY_POINTS_R(PREFIX##_mt, W, Q, F, false, BOX)
+#define WIDE_ENTRY_POINTS_R(PREFIX, W, Q, F, R, BOX)                                                                   \
     WIDE_TARGET static bool PREFIX##_intersect(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray, \
                                                hit_t *hit, counters_t *c)                                              \
     {                                                                                                                  \
-        return wide_walk(w, p, st, ray, hit, c, W, Q, F, BOX, false, true);                                                  \
+        return wide_walk(w, p, st, ray, hit, c, W, Q, F, R, BOX, false, true);                                         \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_occluded(const wide_bvh *w, const prims_t *p, wide_entry *st, const ray_t *ray,  \
                                               counters_t *c)                                                           \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
-        return wide_walk(w, p, st, ray, &none, c, W, Q, F, BOX, true, true);                                                 \
+        return wide_walk(w, p, st, ray, &none, c, W, Q, F, R, BOX, true, true);                                        \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_intersect_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,              \
                                                     const ray_t *ray, hit_t *hit)                                      \
     {                                                                                                                  \
-        return wide_walk(w, p, st, ray, hit, NULL, W, Q, F, BOX, false, false);                                              \
+        return wide_walk(w, p, st, ray, hit, NULL, W, Q, F, R, BOX, false, false);                                     \
     }                                                                                                                  \
     WIDE_TARGET static bool PREFIX##_occluded_fast(const wide_bvh *w, const prims_t *p, wide_entry *st,               \
                                                    const ray_t *ray)                                                   \
     {                                                                                                                  \
         hit_t none = hit_none(ray);                                                                                    \
-        return wide_walk(w, p, st, ray, &none, NULL, W, Q, F, BOX, true, false);                                             \
+        return wide_walk(w, p, st, ray, &none, NULL, W, Q, F, R, BOX, true, false);                                    \
     }
 #define WIDE_KERNELS(PREFIX) WIDE_KERNELS_(PREFIX)
 #define WIDE_KERNELS_(PREFIX) {PREFIX##_intersect, PREFIX##_occluded, PREFIX##_intersect_fast, PREFIX##_occluded_fast}
+/* Both robust settings of WIDE_ENTRY_POINTS(PREFIX, ...), indexed [robust]:
+ * [0] robust=off, [1] robust=on. */
+#define WIDE_KERNELS_RO(PREFIX) WIDE_KERNELS_RO_(PREFIX)
+#define WIDE_KERNELS_RO_(PREFIX) {WIDE_KERNELS(PREFIX##_mt), WIDE_KERNELS(PREFIX)}
 
 #endif
