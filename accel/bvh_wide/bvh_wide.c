@@ -420,41 +420,47 @@ const wide_bvh *bvh_wide_tree(const accel *a, wide_isa *isa)
 
 /* Every width with every instruction set this CPU has (the conformance
  * suite cannot skip a variant that this machine refuses, so the list is
- * made at start-up from the CPU), and the leaf and bin settings. */
-static const char *champ_variants[2 * WIDE_ISA_COUNT + 21];
+ * made at start-up from the CPU), then the leaf, bin, walk and build
+ * settings; a setting that names isa=sse42 only where the CPU has it. */
+static const char *const champ_settings[] = {
+    "width=2,isa=scalar",
+    "width=2,isa=sse42",
+    "robust=off",
+    "leafsize=1,width=4",
+    "packets=off",
+    "leafsize=16,bins=4",
+    "smallbins=off",
+    "binrange=centroids",
+    "order=octant",
+    "order=octant,width=4,isa=scalar",
+    "minleaf=4,bigleaf=28,travcost=4,slots=size,binrange=centroids",
+    "tree=embree",
+    "fma=off",
+    "fma=on,isa=scalar",
+    "compress=on",
+    "compress=on,isa=scalar",
+    "compress=on,isa=sse42",
+    "compress=on,split=sbvh,order=octant",
+    "split=sbvh",
+    "split=sbvh,alpha=0,width=4,leafsize=1",
+    "split=sbvh,binning=clip,width=2",
+};
+#define CHAMP_NSETTINGS (sizeof champ_settings / sizeof champ_settings[0])
+static const char *champ_variants[2 * WIDE_ISA_COUNT + CHAMP_NSETTINGS + 1];
 __attribute__((constructor)) static void champ_fill_variants(void)
 {
     static const char *const all[2][WIDE_ISA_COUNT] = {
         {"width=4,isa=scalar", "width=4,isa=sse42", "width=4,isa=avx2", "width=4,isa=avx512"},
         {"width=8,isa=scalar", "width=8,isa=sse42", "width=8,isa=avx2", "width=8,isa=avx512"},
     };
-    int n = 0;
+    size_t n = 0;
     for (int w = 0; w < 2; w++)
         for (int i = 0; i < WIDE_ISA_COUNT; i++)
             if (wide_isa_supported((wide_isa)i) && wide_kernels_for((wide_isa)i, 8, false, false, true))
                 champ_variants[n++] = all[w][i];
-    champ_variants[n++] = "width=2,isa=scalar";
-    if (wide_isa_supported(WIDE_ISA_SSE42)) champ_variants[n++] = "width=2,isa=sse42";
-    /* Early in the list: the conformance suite runs the first 16 only. */
-    champ_variants[n++] = "robust=off";
-    champ_variants[n++] = "leafsize=1,width=4";
-    champ_variants[n++] = "packets=off";
-    champ_variants[n++] = "leafsize=16,bins=4";
-    champ_variants[n++] = "smallbins=off";
-    champ_variants[n++] = "binrange=centroids";
-    champ_variants[n++] = "order=octant";
-    champ_variants[n++] = "order=octant,width=4,isa=scalar";
-    champ_variants[n++] = "minleaf=4,bigleaf=28,travcost=4,slots=size,binrange=centroids";
-    champ_variants[n++] = "tree=embree";
-    champ_variants[n++] = "fma=off";
-    champ_variants[n++] = "fma=on,isa=scalar";
-    champ_variants[n++] = "compress=on";
-    champ_variants[n++] = "compress=on,isa=scalar";
-    if (wide_isa_supported(WIDE_ISA_SSE42)) champ_variants[n++] = "compress=on,isa=sse42";
-    champ_variants[n++] = "compress=on,split=sbvh,order=octant";
-    champ_variants[n++] = "split=sbvh";
-    champ_variants[n++] = "split=sbvh,alpha=0,width=4,leafsize=1";
-    champ_variants[n++] = "split=sbvh,binning=clip,width=2";
+    for (size_t k = 0; k < CHAMP_NSETTINGS; k++)
+        if (!strstr(champ_settings[k], "isa=sse42") || wide_isa_supported(WIDE_ISA_SSE42))
+            champ_variants[n++] = champ_settings[k];
     champ_variants[n] = NULL;
 }
 
