@@ -66,13 +66,17 @@ ninja -C $B "${LIBS[@]}" > /dev/null
 mkdir -p $B/fuzz
 SYSLIBS=$(pkg-config --libs assimp libarchive libpng)
 # The harnesses that run assimp in their process take its large buffers from reused mappings (fuzz/large_blocks.cc).
-clang++ -std=gnu++17 -g -O1 -Wall -Wextra -fsanitize=fuzzer-no-link -c -o $B/fuzz/large_blocks.o fuzz/large_blocks.cc
+# Each is linked beside its place and moved in, so that a campaign running (whose fork mode starts its
+# binary again for every job) never starts a half-written one.
+clang++ -std=gnu++17 -g -O1 -Wall -Wextra -fsanitize=fuzzer-no-link -c -o $B/fuzz/large_blocks.o.$$ fuzz/large_blocks.cc
+mv $B/fuzz/large_blocks.o.$$ $B/fuzz/large_blocks.o
 for h in "${HARNESSES[@]}"; do
     blocks=()
     case $h in mesh | obj | scenes) blocks=($B/fuzz/large_blocks.o) ;; esac
     clang++ -x c -std=gnu11 -g -O1 -D_GNU_SOURCE -ffp-contract=off -Wall -Wextra \
-        -fsanitize=fuzzer,address,undefined -I. -o $B/fuzz/fuzz_$h fuzz/fuzz_$h.c fuzz/exercise.c \
+        -fsanitize=fuzzer,address,undefined -I. -o $B/fuzz/fuzz_$h.$$ fuzz/fuzz_$h.c fuzz/exercise.c \
         -x none "${blocks[@]}" -Wl,--start-group "${LIBS[@]/#/$B/}" -Wl,--end-group $SYSLIBS -lembree3 -lgmp -lmpfr -lm -pthread
+    mv $B/fuzz/fuzz_$h.$$ $B/fuzz/fuzz_$h
 done
 
 # Leaks inside Embree, TBB and assimp only are suppressed (fuzz/lsan.supp says why); UBSan stops at its first report.
