@@ -6,10 +6,12 @@
 # octree's default build over coincident surfaces, 0.3 s in release, took
 # 14 s there) or runs out of memory (2 GB): libFuzzer leaves the input that did
 # it in build-fuzz/artifacts/NAME/ and prints how to replay it. fuzz_mesh and
-# fuzz_obj run assimp (uninstrumented) in their own process: a crash there is
-# reported, and fails the run only when its first frame outside the runtime is
-# the project's, or when accelbench does not read the same file with exit 0 or
-# 2 through its forked reader (assimp_defect).
+# fuzz_obj run assimp (uninstrumented) in their own process: a crash there, or
+# an allocation over the limit (assimp sizes buffers from the counts a header
+# claims; accelbench's reader stops it with its memory cap), is reported, and
+# fails the run only when its first frame outside the runtime is the project's,
+# or when accelbench does not read the same file with exit 0 or 2 through its
+# forked reader (assimp_defect).
 #
 # The harnesses need clang (installed from Debian when missing); the normal
 # build does not. The project's static libraries are built by meson with
@@ -108,15 +110,15 @@ if [ -n "$CAMPAIGN" ]; then
     exit 1
 fi
 
-# assimp_defect HARNESS FILE: whether a crash fuzz_mesh or fuzz_obj left in FILE is assimp's own, isolated by
-# the product: replayed alone, the first stack frame outside the sanitizer runtime, the C and C++ libraries and
-# the allocator is in libassimp (or it does not crash alone: assimp's heap damage from an earlier input), and
+# assimp_defect HARNESS FILE: whether a crash or out-of-memory fuzz_mesh or fuzz_obj left in FILE is assimp's own,
+# isolated by the product: replayed alone, the first stack frame outside the sanitizer runtime, libFuzzer, the C and
+# C++ libraries and the allocators is in libassimp (or it does not crash alone: assimp's heap damage from an earlier input), and
 # accelbench reads the same file through its forked reader with exit 0 or 2, never a crash of its own.
 assimp_defect() {
     local h=$1 f=$2 replay=$B/fuzz/replay_$1.log file ext
     if ! $B/fuzz/fuzz_$h "$f" > "$replay" 2>&1; then
         grep -E '^ +#[0-9]+ ' "$replay" |
-            grep -vE 'libclang_rt|asan|sanitizer|__interceptor|/libc\.so|libstdc\+\+|operator (new|delete)|malloc|free\b' |
+            grep -vE 'libclang_rt|asan|sanitizer|__interceptor|fuzzer::|large_blocks\.cc|/libc\.so|libstdc\+\+|operator (new|delete)|malloc|free\b' |
             head -1 | grep -q libassimp || return 1
     fi
     if [ "$h" = obj ]; then
@@ -135,26 +137,33 @@ failed=()
 for h in "${HARNESSES[@]}"; do
     mkdir -p $B/corpus/$h $B/artifacts/$h
     log=$B/fuzz/fuzz_$h.log
-    rc=0
+    rc=0 isolated=0
     if [ "$h" = mesh ] || [ "$h" = obj ]; then
         # assimp runs in these two processes: fork mode, so that a defect of assimp's own does not end the run;
         # each crash is then sorted into assimp's (reported) and the project's (a failure).
         stamp=$B/fuzz/smoke_$h.start
         touch "$stamp"
-        $B/fuzz/fuzz_$h -fork=1 -ignore_crashes=1 -seed="$SEED" -max_total_time="$SECONDS_EACH" -timeout=30 \
+        fuzzer_rc=0
+        $B/fuzz/fuzz_$h -fork=1 -ignore_crashes=1 -ignore_ooms=1 -seed="$SEED" -max_total_time="$SECONDS_EACH" -timeout=30 \
             -rss_limit_mb=2048 -dict=fuzz/$h.dict -artifact_prefix=$B/artifacts/$h/ $B/corpus/$h fuzz/corpus/$h \
-            > "$log" 2>&1 || rc=$?
+            > "$log" 2>&1 || fuzzer_rc=$?
         runs=$(grep -E '^#[0-9]+:' "$log" | tail -1 | sed 's/^#\([0-9]*\):.*/\1/')
         rate=$(grep -E '^#[0-9]+:' "$log" | tail -1 | sed -n 's/.*exec\/s \([0-9]*\).*/\1/p')
         for f in $(find $B/artifacts/$h -type f -newer "$stamp" | sort); do
-            case "$(basename "$f")" in crash-* | leak-*) ;; *) rc=1; echo "fuzz_$h: $f" >> "$log"; continue ;; esac
+            case "$(basename "$f")" in crash-* | leak-* | oom-*) ;; *) rc=1; echo "fuzz_$h: $f" >> "$log"; continue ;; esac
             if assimp_defect "$h" "$f"; then
                 echo "fuzz_$h: a defect of assimp's own, which accelbench's forked reader isolates: $f"
+                isolated=$((isolated + 1))
             else
                 echo "fuzz: $f is the project's defect (or accelbench does not isolate it); replay: $B/fuzz/fuzz_$h $f" >> "$log"
                 rc=1
             fi
         done
+        # Fork mode ends with the status of the last job that crashed, ignored or not: when every crash was
+        # assimp's and the run ended as planned, that status is theirs; otherwise it is libFuzzer's own failure.
+        if [ "$fuzzer_rc" != 0 ] && { [ "$isolated" = 0 ] || ! grep -q '^INFO: exiting: ' "$log"; }; then
+            rc=$fuzzer_rc
+        fi
     else
         $B/fuzz/fuzz_$h -seed="$SEED" -max_total_time="$SECONDS_EACH" -timeout=30 -rss_limit_mb=2048 -print_final_stats=1 \
             -dict=fuzz/$h.dict -artifact_prefix=$B/artifacts/$h/ $B/corpus/$h fuzz/corpus/$h > "$log" 2>&1 || rc=$?
@@ -162,7 +171,9 @@ for h in "${HARNESSES[@]}"; do
         rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")
     fi
     if [ "$rc" = 0 ]; then
-        echo "fuzz_$h: ${runs:-?} executions in ${SECONDS_EACH} s (${rate:-?}/s), no crash, leak or timeout"
+        of_assimp=""
+        [ "$isolated" = 0 ] || of_assimp=" of the project's ($isolated of assimp's own, isolated)"
+        echo "fuzz_$h: ${runs:-?} executions in ${SECONDS_EACH} s (${rate:-?}/s), no crash$of_assimp, leak or timeout"
     else
         echo "fuzz_$h: FAILED (exit $rc) after ${runs:-?} executions; the log is $log:" >&2
         grep -E 'ERROR|WARNING|SUMMARY|runtime error|Test unit written|fuzz:' "$log" | head -20 >&2
