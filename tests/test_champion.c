@@ -275,18 +275,75 @@ static scene_t *finished(scene_t *s)
     return s;
 }
 
+/* The image side at which the bunny's variants are compared with
+ * exhaustive, whose trace is the costly part: under AddressSanitizer a
+ * smaller one walks the same code. */
+#ifdef __SANITIZE_ADDRESS__
+enum { EXHAUSTIVE_RES = 16 };
+#else
+enum { EXHAUSTIVE_RES = 24 };
+#endif
+
+/* Exhaustive's ray sets and answers for one scene at one image side. The
+ * bunny is compared against exhaustive at the same side by several tests,
+ * and exhaustive's trace of it was most of this test's time: each is made
+ * once, for a scene of that name and primitive count, and kept to the end. */
+enum { MAX_REFERENCES = 8, MAX_WORKLOADS = 16 };
+typedef struct {
+    char name[256];
+    uint32_t prims;
+    int res, nsets;
+    rayset_t *sets[MAX_WORKLOADS];
+    answers_t *want[MAX_WORKLOADS];
+} exhaustive_reference;
+static exhaustive_reference references[MAX_REFERENCES];
+static int nreferences;
+
+static const exhaustive_reference *reference_for(scene_t *s, int res)
+{
+    for (int i = 0; i < nreferences; i++)
+        if (!strcmp(references[i].name, s->name) && references[i].prims == s->prims.count && references[i].res == res)
+            return &references[i];
+    if (nreferences == MAX_REFERENCES) {
+        fprintf(stderr, "test_champion: more than %d exhaustive references\n", MAX_REFERENCES);
+        exit(2);
+    }
+    exhaustive_reference *r = &references[nreferences++];
+    snprintf(r->name, sizeof r->name, "%s", s->name);
+    r->prims = s->prims.count, r->res = res, r->nsets = 0;
+    accel *ex = test_build("exhaustive", s, 1);
+    workload_opts o = test_wl(res, res, 1);
+    for (int w = 0; workload_table[w].name && r->nsets < MAX_WORKLOADS; w++, r->nsets++) {
+        r->sets[w] = workload_table[w].make(s, ex, &o);
+        r->want[w] = test_trace(ex, r->sets[w], 1);
+    }
+    ex->ops->destroy(ex);
+    return r;
+}
+
+static void free_references(void)
+{
+    for (int i = 0; i < nreferences; i++)
+        for (int w = 0; w < references[i].nsets; w++) {
+            answers_free(references[i].want[w]);
+            rayset_free(references[i].sets[w]);
+        }
+    nreferences = 0;
+}
+
 /* Answers of bvh [cfg] against exhaustive on every workload: the same
  * hits bit for bit, or (same_prim false: coincident primitives, where
  * which of equal t is kept depends on the order they are tested in) the
  * same distances. */
 static void against_exhaustive(scene_t *s, const char *cfg, int res, bool same_prim)
 {
-    accel *ex = test_build("exhaustive", s, 1), *a = champ_with(s, cfg);
+    const exhaustive_reference *ref = reference_for(s, res);
+    accel *a = champ_with(s, cfg);
     check_tree(a, cfg);
-    workload_opts o = test_wl(res, res, 1);
-    for (int w = 0; workload_table[w].name; w++) {
-        rayset_t *rs = workload_table[w].make(s, ex, &o);
-        answers_t *want = test_trace(ex, rs, 1), *got = test_trace(a, rs, 1);
+    for (int w = 0; w < ref->nsets; w++) {
+        const rayset_t *rs = ref->sets[w];
+        const answers_t *want = ref->want[w];
+        answers_t *got = test_trace(a, rs, 1);
         uint32_t diff = 0;
         for (uint32_t i = 0; i < rs->count; i++)
             diff += rs->query == QUERY_ANY ? want->occluded[i] != got->occluded[i]
@@ -295,12 +352,9 @@ static void against_exhaustive(scene_t *s, const char *cfg, int res, bool same_p
                                      memcmp(&want->hits[i].t, &got->hits[i].t, sizeof(float)) != 0;
         CHECK_MSG(diff == 0, "%s [%s] %s: %u of %u rays differ from exhaustive", s->name, cfg, workload_table[w].name,
                   diff, rs->count);
-        answers_free(want);
         answers_free(got);
-        rayset_free(rs);
     }
     a->ops->destroy(a);
-    ex->ops->destroy(ex);
 }
 
 /* The triangle (0,0,0), (1,0,0), (0,1,0) alone. */
@@ -510,7 +564,7 @@ static void test_sbvh(void)
     embree->ops->destroy(embree);
     scene_free(s);
     s = test_scene("bunny");
-    against_exhaustive(s, "split=sbvh,width=2,leafsize=1", 24, true);
+    against_exhaustive(s, "split=sbvh,width=2,leafsize=1", EXHAUSTIVE_RES, true);
     scene_free(s);
 }
 
@@ -591,7 +645,7 @@ static void test_refusals(void)
 static void test_octant(void)
 {
     scene_t *s = test_scene("bunny");
-    against_exhaustive(s, "order=octant", 24, true);
+    against_exhaustive(s, "order=octant", EXHAUSTIVE_RES, true);
     accel *a = champ_with(s, "order=octant,width=8");
     wide_bvh *w = (wide_bvh *)bvh_wide_tree(a, NULL);
     const prims_t *p = &s->prims;
@@ -629,8 +683,8 @@ static void test_embree_rules(void)
 {
     scene_t *s = test_scene("bunny");
     static const char *const rules = "minleaf=4,bigleaf=28,travcost=4,slots=size,binrange=centroids";
-    against_exhaustive(s, "tree=embree", 24, true);
-    against_exhaustive(s, rules, 24, true);
+    against_exhaustive(s, "tree=embree", EXHAUSTIVE_RES, true);
+    against_exhaustive(s, rules, EXHAUSTIVE_RES, true);
     accel *e = champ_with(s, "tree=embree"), *a = champ_with(s, rules), *plain = champ_with(s, "minleaf=4,travcost=4");
     const wide_bvh *we = bvh_wide_tree(e, NULL), *wa = bvh_wide_tree(a, NULL), *wp = bvh_wide_tree(plain, NULL);
     CHECK_MSG(fabs((double)wa->nnodes / we->nnodes - 1.0) < 0.02 && fabs((double)wa->nleaves / we->nleaves - 1.0) < 0.02,
@@ -793,7 +847,7 @@ static void test_compress(void)
     printf("refused as it should: %s\n", err);
 
     scene_t *s = test_scene("bunny");
-    against_exhaustive(s, "compress=on", 24, true);
+    against_exhaustive(s, "compress=on", EXHAUSTIVE_RES, true);
     against_exhaustive(s, "compress=on,split=sbvh,order=octant", 16, true);
     accel *off = champ_with(s, ""), *on = champ_with(s, "compress=on");
     const wide_bvh *woff = bvh_wide_tree(off, NULL), *won = bvh_wide_tree(on, NULL);
@@ -828,15 +882,14 @@ static void test_compress(void)
 static void test_robust_off(void)
 {
     scene_t *s = test_scene("bunny");
-    accel *ex = test_build("exhaustive", s, 1);
+    const exhaustive_reference *ref = reference_for(s, EXHAUSTIVE_RES);
     static const char *const cfgs[] = {"robust=off", "robust=off,fma=off", "robust=off,width=4,isa=scalar,fma=on"};
     accel *a[3];
     for (int k = 0; k < 3; k++) a[k] = champ_with(s, cfgs[k]);
-    workload_opts o = test_wl(32, 32, 1);
     uint64_t rays = 0, exact[3] = {0}, tol[3] = {0}, differ[3] = {0};
-    for (int w = 0; workload_table[w].name; w++) {
-        rayset_t *rs = workload_table[w].make(s, ex, &o);
-        answers_t *want = test_trace(ex, rs, 1);
+    for (int w = 0; w < ref->nsets; w++) {
+        const rayset_t *rs = ref->sets[w];
+        const answers_t *want = ref->want[w];
         for (int k = 0; k < 3; k++) {
             answers_t *got = test_trace(a[k], rs, 1);
             for (uint32_t i = 0; i < rs->count; i++) {
@@ -856,8 +909,6 @@ static void test_robust_off(void)
             answers_free(got);
         }
         rays += rs->count;
-        answers_free(want);
-        rayset_free(rs);
     }
     for (int k = 0; k < 3; k++) {
         CHECK_MSG(differ[k] * 10000 <= rays, "bunny [%s]: %llu of %llu rays differ from exhaustive beyond the tolerance",
@@ -867,7 +918,6 @@ static void test_robust_off(void)
                (unsigned long long)differ[k]);
         a[k]->ops->destroy(a[k]);
     }
-    ex->ops->destroy(ex);
     /* robust=on by default; the params say robust either way. */
     accel_params p;
     params_defaults(&p, accel_find("bvh")->params);
@@ -898,5 +948,6 @@ int main(void)
     test_embree_rules();
     test_compress();
     test_robust_off();
+    free_references();
     return check_report();
 }
