@@ -427,6 +427,40 @@ static void test_sbvh_subtrees(void)
     prims_free(&p);
 }
 
+/* The threaded binned SAH build (build.c) over a scene's primitives: the
+ * top of the tree, then subtrees of about n / BVH_SUBTREES primitives in
+ * parallel, each in a node range reserved for it, the ranges' unused ends
+ * then squeezed out. On 1, 2 and 4 threads: the same nodes and refs byte
+ * for byte; the tree sound (bvh_check: no node unreachable) and dense
+ * (2 leaves - 1 nodes, as a one-pass build makes); the same refs order,
+ * leaves and depth as the one-pass build (threads 0). */
+static void test_sah_subtrees(const char *name, const prims_t *p)
+{
+    bvh_t t[4];
+    const uint32_t threads[4] = {1, 2, 4, 0};
+    char err[256];
+    for (int k = 0; k < 4; k++) {
+        bvh_config cfg;
+        bvh_config_defaults(&cfg);
+        cfg.threads = threads[k];
+        CHECK(bvh_build_sah(&t[k], p->bounds, NULL, p->count, &cfg) == 0);
+        CHECK_MSG(bvh_check(&t[k], p->bounds, p->count, err, sizeof err) == 0, "%s sah on %u threads: %s", name,
+                  threads[k], err);
+        CHECK_MSG(t[k].nnodes == 2 * t[k].nleaves - 1, "%s sah on %u threads: %u nodes for %u leaves", name, threads[k],
+                  t[k].nnodes, t[k].nleaves);
+    }
+    for (int k = 1; k < 3; k++)
+        CHECK_MSG(t[k].nnodes == t[0].nnodes && !memcmp(t[k].nodes, t[0].nodes, t[0].nnodes * sizeof *t[0].nodes) &&
+                      !memcmp(t[k].refs, t[0].refs, t[0].nrefs * sizeof *t[0].refs),
+                  "%s sah on %u threads: %u nodes, on 1: %u", name, threads[k], t[k].nnodes, t[0].nnodes);
+    CHECK_MSG(t[3].nleaves == t[0].nleaves && t[3].max_depth == t[0].max_depth &&
+                  !memcmp(t[3].refs, t[0].refs, t[0].nrefs * sizeof *t[0].refs),
+              "%s sah: %u leaves depth %u on 0 threads, %u leaves depth %u on 1", name, t[3].nleaves, t[3].max_depth,
+              t[0].nleaves, t[0].max_depth);
+    printf("%s sah subtrees: %u nodes, %u leaves on 0, 1, 2 and 4 threads\n", name, t[0].nnodes, t[0].nleaves);
+    for (int k = 0; k < 4; k++) bvh_free(&t[k]);
+}
+
 /* prim_split_bounds, an estimate of prim_clip_bounds of a box's two halves:
  * on random triangles, boxes and planes each side contains the exact
  * clip of that half up to float rounding (1e-5 of the box's extent), and
@@ -656,6 +690,7 @@ int main(void)
         return 2;
     }
     check_scene("bunny", &s->prims, 3000);
+    test_sah_subtrees("bunny", &s->prims);
     scene_free(s);
     return check_report();
 }

@@ -5,8 +5,10 @@
  * With bvh_config.threads > 0 the driver builds in two phases: the top of
  * the tree on the calling thread down to subtrees of at most n /
  * BVH_SUBTREES primitives, then those subtrees in parallel (pthreads),
- * each into a node range reserved for it: the task-parallel split of the
- * recursion that parallel BVH builders use below their top levels (I. Wald,
+ * each into a node range reserved for it (the ranges' unused ends squeezed
+ * out afterwards, so the tree is as dense as a one-pass build's): the
+ * task-parallel split of the recursion that parallel BVH builders use
+ * below their top levels (I. Wald,
  * "Fast Construction of SAH BVHs on the Intel Many Integrated Core (MIC)
  * Architecture", IEEE TVCG 18(1), 2012: subtrees as independent tasks
  * once there are enough of them, and its top levels bin in parallel: here
@@ -17,6 +19,7 @@
  * same for every thread count. */
 #include "build.h"
 #include "../../prims/box4.h"
+#include "../common/big_alloc.h"
 
 #include <pthread.h>
 #include <stdatomic.h>
@@ -69,8 +72,9 @@ int bvh_alloc(bvh_t *b, uint32_t n)
 {
     memset(b, 0, sizeof *b);
     if (!n) return 0;
-    b->nodes = malloc((2 * (size_t)n - 1) * sizeof *b->nodes);
-    b->refs = malloc((size_t)n * sizeof *b->refs);
+    /* On huge pages (accel/common/big_alloc.h): a build writes them at once. */
+    b->nodes = big_alloc((2 * (size_t)n - 1) * sizeof *b->nodes);
+    b->refs = big_alloc((size_t)n * sizeof *b->refs);
     if (!b->nodes || !b->refs) {
         bvh_free(b);
         return -1;
@@ -110,7 +114,7 @@ const vec3 *bvh_centroids(const box3 *boxes, const vec3 *centroids, uint32_t n, 
 {
     *owned = NULL;
     if (centroids) return centroids;
-    *owned = malloc(((size_t)n + 1) * sizeof **owned);
+    *owned = big_alloc(((size_t)n + 1) * sizeof **owned);
     if (!*owned) return NULL;
     for (uint32_t i = 0; i < n; i++) (*owned)[i] = box_center(boxes[i]);
     return *owned;
@@ -160,11 +164,12 @@ typedef struct {
     uint32_t boxed; /* the node's box is set already (its parent's split knew it) */
 } task_t;
 
-/* A subtree left for the second phase: its task and the first node of the
- * range reserved for its descendants. */
+/* A subtree left for the second phase: its task, the first node of the
+ * range reserved for its descendants, and (after the second phase) the
+ * end of the part of that range it used. */
 typedef struct {
     task_t task;
-    uint32_t base;
+    uint32_t base, used_end;
 } deferred_t;
 _Static_assert(sizeof(task_t) + sizeof(deferred_t) == BVH_TOPDOWN_TASK_BYTES, "bvh.h's BVH_TOPDOWN_TASK_BYTES");
 
@@ -183,7 +188,7 @@ static void topdown_loop(bvh_t *b, task_t *tasks, uint32_t ntasks, uint32_t *nex
         task_t t = tasks[--ntasks];
         uint32_t *ids = b->refs + t.begin, cnt = t.end - t.begin;
         if (cnt <= grain) {
-            deferred[(*ndeferred)++] = (deferred_t){t, *next};
+            deferred[(*ndeferred)++] = (deferred_t){t, *next, *next};
             *next += 2 * cnt - 2;
             continue;
         }
@@ -249,20 +254,71 @@ typedef struct {
     const vec3 *cent;
     const bvh_config *c;
     bvh_split_fn split;
-    const deferred_t *deferred;
+    deferred_t *deferred;
 } phase2_t;
 
 static void phase2_subtree(void *arg, uint32_t i)
 {
     phase2_t *ph = arg;
-    const deferred_t *d = &ph->deferred[i];
-    uint32_t next = d->base, end = d->base + 2 * (d->task.end - d->task.begin) - 2;
+    deferred_t *d = &ph->deferred[i];
+    uint32_t next = d->base;
     task_t *tasks = ph->tasks + d->task.begin;
     tasks[0] = d->task;
     topdown_loop(ph->b, tasks, 1, &next, ph->boxes, ph->cent, ph->c, ph->split, 0, NULL, NULL);
-    /* Reserved nodes the subtree did not use: zeroed, and never reached
-     * from the root. */
-    memset(&ph->b->nodes[next], 0, (size_t)(end - next) * sizeof *ph->b->nodes);
+    d->used_end = next;
+}
+
+/* After the second phase the node array holds, in order, runs of the top's
+ * nodes and of each subtree's, with the unused end of each subtree's
+ * reservation between them (a subtree of cnt primitives reserves 2 cnt - 2
+ * nodes and uses about cnt / 2 with leaves of four). Compacting moves the
+ * runs down over those gaps, so the tree is dense again (2 leaves - 1
+ * nodes, none unreachable) without writing, or touching the pages of, the
+ * gaps. A node pair never straddles two runs; a subtree's nodes point into
+ * their own run, the top's into any (binary search over the runs' starts).
+ * *end: the node count before, and after. 0, or -1 out of memory. */
+typedef struct {
+    uint32_t begin, end, shift; /* old [begin, end) moves to [begin - shift, end - shift) */
+} node_run;
+
+static uint32_t run_shift(const node_run *runs, uint32_t nruns, uint32_t index)
+{
+    uint32_t lo = 0, hi = nruns; /* the last run with begin <= index */
+    while (hi - lo > 1) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (runs[mid].begin <= index) lo = mid;
+        else hi = mid;
+    }
+    return runs[lo].shift;
+}
+
+static int compact_subtrees(bvh_t *b, const deferred_t *deferred, uint32_t ndeferred, uint32_t *end)
+{
+    node_run *runs = malloc((2 * (size_t)ndeferred + 1) * sizeof *runs);
+    if (!runs) return -1;
+    /* The runs in order: top nodes before each subtree, the subtree's used
+     * part, and the top nodes after the last one. The deferred subtrees
+     * were recorded in the order their ranges were reserved. */
+    uint32_t nruns = 0, at = 0, gaps = 0;
+    for (uint32_t i = 0; i < ndeferred; i++) {
+        const deferred_t *d = &deferred[i];
+        runs[nruns++] = (node_run){at, d->base, gaps};
+        runs[nruns++] = (node_run){d->base, d->used_end, gaps};
+        at = d->base + 2 * (d->task.end - d->task.begin) - 2;
+        gaps += at - d->used_end;
+    }
+    runs[nruns++] = (node_run){at, *end, gaps};
+    for (uint32_t r = 0; r < nruns; r++) {
+        const node_run *run = &runs[r];
+        bvh_node *to = b->nodes + run->begin - run->shift;
+        if (run->shift && run->end > run->begin) memmove(to, b->nodes + run->begin, (size_t)(run->end - run->begin) * sizeof *to);
+        const bool subtree = r % 2 == 1;
+        for (uint32_t k = 0; k < run->end - run->begin; k++)
+            if (!to[k].count) to[k].index -= subtree ? run->shift : run_shift(runs, nruns, to[k].index);
+    }
+    free(runs);
+    *end -= gaps;
+    return 0;
 }
 
 int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32_t n, const bvh_config *cfg,
@@ -274,7 +330,7 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
     vec3 *owned;
     const vec3 *cent = bvh_centroids(boxes, centroids, n, &owned);
     /* Pending tasks never exceed the leaves still to make: n. */
-    task_t *tasks = malloc((size_t)n * sizeof *tasks);
+    task_t *tasks = big_alloc((size_t)n * sizeof *tasks);
     /* threads > 0: subtrees of at most `grain` primitives are deferred to
      * a second phase over threads (grain depends on n alone, so the tree
      * is the same whatever the thread count). */
@@ -297,6 +353,13 @@ int bvh_build_topdown(bvh_t *b, const box3 *boxes, const vec3 *centroids, uint32
     if (ndeferred) {
         phase2_t ph = {b, tasks, boxes, cent, &c, split, deferred};
         bvh_parallel_for(ndeferred, c.threads, phase2_subtree, &ph);
+        if (compact_subtrees(b, deferred, ndeferred, &next)) {
+            free(deferred);
+            free(tasks);
+            free(owned);
+            bvh_free(b);
+            return -1;
+        }
     }
     b->nnodes = next;
     free(deferred);

@@ -112,7 +112,7 @@ typedef struct {
 #define BVH_MAX_THREADS 64 /* threads a top-down build uses at most */
 /* Scratch bytes per primitive of a top-down build's task stack and (threads
  * > 0) its deferred subtrees (build.c asserts it), for memory caps. */
-#define BVH_TOPDOWN_TASK_BYTES 36
+#define BVH_TOPDOWN_TASK_BYTES 40
 #define BVH_SUBTREES 64    /* threads > 0: subtrees of at most n / BVH_SUBTREES primitives are built in parallel */
 #define BVH_MIN_GRAIN 1024 /* ... and of at most this many when n / BVH_SUBTREES is fewer */
 #define BVH_PARALLEL_BINS 32768 /* threads > 0: the top's nodes of more than this many (and the grain) bin in parallel */

@@ -60,6 +60,7 @@
 #include "bvh_wide.h"
 #include "../common/memcap.h"
 #include "../../prims/checked_alloc.h"
+#include "../common/big_alloc.h"
 
 static const accel_param champ_params[] = {
     PARAM_ROW_CHOICE("width", "8", "2|4|8", "children per node (2: binary nodes, both children tested together by SSE4.2)"),
@@ -218,7 +219,7 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
         return NULL;
 
     champ_t *t = calloc(1, sizeof *t);
-    box3 *boxes = malloc(((size_t)n + 1) * sizeof *boxes);
+    box3 *boxes = big_alloc(((size_t)n + 1) * sizeof *boxes);
     bvh_t bin = {0};
     if (!t || !boxes) goto oom;
     t->base.scene = scene;

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "../bvh/build.h"
+#include "../common/big_alloc.h"
 #include "wide.h"
 
 const char *const wide_isa_names[WIDE_ISA_COUNT + 1] = {"scalar", "sse42", "avx2", "avx512", NULL};
@@ -263,7 +264,7 @@ int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m)
     uint32_t total = 0;
     if (ok && !collapse(NULL, b, width, m, span, &total)) {
         size_t bytes = (size_t)total * wide_node_bytes(width);
-        w->nodes = aligned_alloc(64, bytes);
+        w->nodes = big_alloc(bytes); /* 64-byte aligned, on huge pages when large (accel/common/big_alloc.h) */
         if (w->nodes) {
             memset(w->nodes, 0, bytes);
             w->nnodes = total;

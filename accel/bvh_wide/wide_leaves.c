@@ -5,6 +5,7 @@
  * vertex indices, and the watertight test sets the ray up once per leaf. */
 #include <stdlib.h>
 #include <string.h>
+#include "../common/big_alloc.h"
 #include "wide.h"
 
 /* Slot k of node i: its child word and its count. */
@@ -37,7 +38,7 @@ int wide_pack_leaves(wide_bvh *w, const prims_t *p)
     uint64_t total = wide_count_packets(w, p);
     if (!total) return 0;
     if (total > WIDE_INDEX) return -1; /* first packets must fit the child word */
-    prim_tri_packet *pk = aligned_alloc(64, ((size_t)total * sizeof *pk + 63) / 64 * 64);
+    prim_tri_packet *pk = big_alloc((size_t)total * sizeof *pk); /* 64-byte aligned, huge pages when large */
     if (!pk) return -1;
     uint32_t next = 0;
     for (uint32_t i = 0; i < w->nnodes; i++)

@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "../common/big_alloc.h"
 #include "wide.h"
 
 /* The smallest biased scale exponent whose 255 steps from origin reach hi
@@ -108,7 +109,7 @@ int wide_quantize(wide_bvh *w, char *err, size_t errlen)
         w->quantized = true;
         return 0;
     }
-    wide8q_node *q = aligned_alloc(64, (size_t)w->nnodes * sizeof *q);
+    wide8q_node *q = big_alloc((size_t)w->nnodes * sizeof *q); /* 64-byte aligned, huge pages when large */
     if (!q) {
         snprintf(err, errlen, "compress=on: out of memory for %u quantised nodes", w->nnodes);
         return -1;
