@@ -284,12 +284,17 @@ static accel *champ_build(const scene_t *scene, const accel_params *params, char
 
     /* Collapsed to width, its exact size checked first. */
     const wide_merge merge = {(uint32_t)bigleaf, (float)travcost, cfg.leaf_block, by_size};
-    uint32_t wide_nodes = wide_count_nodes(&bin, width, &merge);
-    if (memcap_exceeded(collapse_bytes(&bin, wide_nodes, width), memcap, err, errlen,
-                        "bvh: %u BVH%u nodes over %u primitives with the binary tree they come from", wide_nodes,
-                        width, n))
+    wide_plan plan;
+    if (wide_plan_collapse(&plan, &bin, width, &merge)) goto oom;
+    if (memcap_exceeded(collapse_bytes(&bin, plan.nodes, width), memcap, err, errlen,
+                        "bvh: %u BVH%u nodes over %u primitives with the binary tree they come from", plan.nodes,
+                        width, n)) {
+        wide_plan_free(&plan);
         goto fail;
-    if (wide_collapse(&t->w, &bin, width, &merge)) goto oom;
+    }
+    int collapsed = wide_collapse(&t->w, &bin, width, &merge, &plan);
+    wide_plan_free(&plan);
+    if (collapsed) goto oom;
     t->w.spatial = sbvh;
     t->w.octant_order = octant;
     bvh_free(&bin);

@@ -57,7 +57,7 @@ static uint32_t open_children(const bvh_t *b, uint32_t bi, uint32_t width, uint3
 /* Big leaves (wide_merge): per binary node, the run of refs its subtree's
  * leaves hold when they are one contiguous run (count 0 when not), so that
  * an interior node can become one leaf of them. */
-typedef struct {
+typedef struct wide_span {
     uint32_t first, count; /* the run, count 0 when the subtree's refs are not one run */
     uint32_t prims;        /* refs below, in one run or not */
 } span_t;
@@ -68,8 +68,9 @@ typedef struct {
 static span_t *subtree_spans(const bvh_t *b)
 {
     const bvh_node *nodes = b->nodes;
-    span_t *span = calloc(b->nnodes, sizeof *span);
-    uint32_t *order = malloc((size_t)b->nnodes * sizeof *order), *stack = malloc(((size_t)b->nnodes + 1) * sizeof *stack);
+    /* span and order are written through (huge pages, big_alloc.h); the stack only to the tree's depth. */
+    span_t *span = big_calloc(b->nnodes, sizeof *span);
+    uint32_t *order = big_alloc((size_t)b->nnodes * sizeof *order), *stack = malloc(((size_t)b->nnodes + 1) * sizeof *stack);
     if (!span || !order || !stack) {
         free(span), free(order), free(stack);
         return NULL;
@@ -139,15 +140,21 @@ static span_t *spans_for(const bvh_t *b, const wide_merge *m, bool *ok)
     return span;
 }
 
-uint32_t wide_count_nodes(const bvh_t *b, uint32_t width, const wide_merge *m)
+int wide_plan_collapse(wide_plan *plan, const bvh_t *b, uint32_t width, const wide_merge *m)
 {
+    memset(plan, 0, sizeof *plan);
     if (!b->nnodes) return 0;
     bool ok;
-    span_t *span = spans_for(b, m, &ok);
-    uint32_t total = 0;
-    int rc = ok ? collapse(NULL, b, width, m, span, &total) : -1;
-    free(span);
-    return rc ? UINT32_MAX : total;
+    plan->span = spans_for(b, m, &ok);
+    if (ok && !collapse(NULL, b, width, m, plan->span, &plan->nodes)) return 0;
+    wide_plan_free(plan);
+    return -1;
+}
+
+void wide_plan_free(wide_plan *plan)
+{
+    free(plan->span);
+    memset(plan, 0, sizeof *plan);
 }
 
 void wide_set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t child, uint32_t count)
@@ -253,30 +260,23 @@ static int collapse(wide_bvh *w, const bvh_t *b, uint32_t width, const wide_merg
     return 0;
 }
 
-int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m)
+int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m, const wide_plan *plan)
 {
     memset(w, 0, sizeof *w);
     w->width = width;
     if (!b->nnodes) return 0;
-    /* The spans once, for the count and the fill. */
-    bool ok;
-    span_t *span = spans_for(b, m, &ok);
-    uint32_t total = 0;
-    if (ok && !collapse(NULL, b, width, m, span, &total)) {
-        size_t bytes = (size_t)total * wide_node_bytes(width);
-        w->nodes = big_alloc(bytes); /* 64-byte aligned, on huge pages when large (accel/common/big_alloc.h) */
-        if (w->nodes) {
-            memset(w->nodes, 0, bytes);
-            w->nnodes = total;
-        }
+    uint32_t total = plan->nodes;
+    size_t bytes = (size_t)total * wide_node_bytes(width);
+    w->nodes = big_alloc(bytes); /* 64-byte aligned, on huge pages when large (accel/common/big_alloc.h) */
+    if (w->nodes) {
+        memset(w->nodes, 0, bytes);
+        w->nnodes = total;
     }
-    if (!w->nodes || collapse(w, b, width, m, span, &total)) {
-        free(span);
+    if (!w->nodes || collapse(w, b, width, m, plan->span, &total)) {
         free(w->nodes);
         memset(w, 0, sizeof *w);
         return -1;
     }
-    free(span);
     w->refs = b->refs;
     w->nrefs = b->nrefs;
     b->refs = NULL;

@@ -248,18 +248,26 @@ typedef struct {
     bool by_size; /* slots ordered by primitives below, most first (stable) */
 } wide_merge;
 
-/* Wide nodes the collapse of b to width makes with merge rule m (NULL:
- * none), so that a caller can check a memory cap before wide_collapse
- * allocates them; UINT32_MAX out of memory. */
-uint32_t wide_count_nodes(const bvh_t *b, uint32_t width, const wide_merge *m);
+/* The collapse of b to width with merge rule m (NULL: none), planned: the
+ * wide nodes it makes, so that a caller can check a memory cap before
+ * wide_collapse allocates them, and the per-binary-node runs of refs the
+ * merge rule reads (collapse.c), computed once for both. */
+typedef struct {
+    uint32_t nodes;      /* wide nodes the collapse makes */
+    struct wide_span *span; /* collapse.c's, or NULL when m needs none */
+} wide_plan;
+/* 0, or -1 out of memory (*plan empty). */
+int wide_plan_collapse(wide_plan *plan, const bvh_t *b, uint32_t width, const wide_merge *m);
+void wide_plan_free(wide_plan *plan);
 /* Collapse the binary tree b to width 2, 4 or 8 (2: the binary tree's
  * own nodes, re-laid): each wide node starts from
  * the two children of a binary interior node and repeatedly replaces the
  * child of largest surface area that is interior by its two children,
  * until it has width of them or all are leaves (ties: the first in slot
  * order). Takes over b's refs (b->refs becomes NULL); b's nodes are only
- * read. 0, or -1 out of memory (w empty, b unchanged). */
-int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m);
+ * read. plan: wide_plan_collapse's for the same b, width and m. 0, or -1
+ * out of memory (w empty, b unchanged). */
+int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m, const wide_plan *plan);
 void wide_free(wide_bvh *w);
 /* Slot k of node ni: its box, child word and leaf count (0 interior). */
 void wide_set_slot(wide_bvh *w, uint32_t ni, uint32_t k, box3 box, uint32_t child, uint32_t count);
