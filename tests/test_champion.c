@@ -98,7 +98,16 @@ static void check_tree(const accel *a, const char *label)
     }
     accel_stat st[ACCEL_STATS_MAX];
     int n = accel_stats(a, st, ACCEL_STATS_MAX);
-    CHECK_MSG(n == 6, "%s: %d statistics", label, n);
+    CHECK_MSG(n == 8, "%s: %d statistics", label, n);
+    /* The cost model's prediction (tests/test_wide_predict.c checks its
+     * values): at least the root's slots' box tests, some primitive tests. */
+    for (int i = 0; i < n && w->nnodes; i++) {
+        if (!strcmp(st[i].name, "predicted_box_tests_per_ray"))
+            CHECK_MSG(st[i].value >= WIDE_NCHILDREN_Q(w->nodes, w->width, w->quantized), "%s: predicted box tests %g",
+                      label, st[i].value);
+        if (!strcmp(st[i].name, "predicted_tests_per_ray"))
+            CHECK_MSG(st[i].value > 0.0 && isfinite(st[i].value), "%s: predicted tests %g", label, st[i].value);
+    }
 }
 
 static bool same_hit(const hit_t *x, const hit_t *y)

@@ -302,8 +302,15 @@ size_t wide_node_bytes(uint32_t width);
 size_t wide_memory(const wide_bvh *w);
 /* Stack entries a walk of w can need at most. */
 uint32_t wide_stack_cap(const wide_bvh *w);
+/* The cost model (wide_predict.c): counters per line that meets the
+ * root's box, for lines uniform over those, walked whole. */
+typedef struct {
+    double steps, box_tests, prim_tests; /* all -1: out of memory */
+} wide_prediction;
+wide_prediction wide_predict(const wide_bvh *w);
 /* Statistics (accel.h): nodes, leaves, max_depth, avg_leaf_prims,
- * refs_per_prim, avg_children. */
+ * refs_per_prim, avg_children, and wide_predict's
+ * predicted_box_tests_per_ray and predicted_tests_per_ray. */
 int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max);
 /* For tests: every node's slots hold their children's bounds (a child
  * node's box is the union of its slots; a leaf's holds its primitives'
