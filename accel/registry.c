@@ -24,10 +24,12 @@ const char *const accel_stat_names[] = {
     "hash_probes_miss_avg", /* compares to learn a name is absent (an empty voxel), averaged */
     "avg_children",         /* children per interior node of an n-ary tree (bvh-gs) */
     /* A tree's own prediction of the per-ray counters (bvh-gs: the survey's
-     * eq. (3)); the CSV writes these two beside the measured counters, as
-     * predicted_*_per_ray, not as stat_ columns (harness/csv.c). */
+     * eq. (3); bvh: the surface-area argument); the CSV writes these three
+     * beside the measured counters, as predicted_*_per_ray, not as stat_
+     * columns (harness/csv.c). */
     "predicted_box_tests_per_ray",
     "predicted_tests_per_ray",
+    "predicted_steps_per_ray",
     NULL,
 };
 

@@ -60,10 +60,14 @@ static void test_eq3(void)
     nary_prediction p = nary_predict(&t);
     CHECK_NEAR(p.box_tests, 3.0, 1e-12);
     CHECK_NEAR(p.prim_tests, 1.0 + (6.0 * 2 + 10.0 * 2) / 18.0, 1e-12);
+    /* Steps: A opened always, B1 and B2 with 6/18 and 10/18, and each
+     * primitive tested. */
+    CHECK_NEAR(p.steps, 1.0 + (6.0 + 10.0) / 18.0 + p.prim_tests, 1e-12);
     accel_stat st[ACCEL_STATS_MAX];
     int n = nary_stats(&t, 5, st, ACCEL_STATS_MAX);
-    CHECK(n == 8 && !strcmp(st[6].name, "predicted_box_tests_per_ray") && st[6].value == p.box_tests);
+    CHECK(n == 9 && !strcmp(st[6].name, "predicted_box_tests_per_ray") && st[6].value == p.box_tests);
     CHECK(!strcmp(st[7].name, "predicted_tests_per_ray") && st[7].value == p.prim_tests);
+    CHECK(!strcmp(st[8].name, "predicted_steps_per_ray") && st[8].value == p.steps);
     CHECK_NEAR(st[5].value, 7.0 / 3.0, 1e-12); /* avg_children: 7 children over 3 interior nodes */
 
     /* The same tree by hand in the builder: its cost is S(A) IC(A) =
@@ -276,10 +280,13 @@ static void test_model(void)
         nary_occluded_nearest(&t, &p, &s, &ray, &c[1]);
     }
     for (int k = 0; k < 2; k++) {
-        double box = (double)c[k].box_tests / RAYS, tests = (double)c[k].prim_tests / RAYS;
-        printf("model: %s: %.3f box tests per ray (eq. (3) %.3f), %.3f primitive tests (eq. (3) %.3f), %llu hits\n",
-               k ? "nearest, any hit" : "stored, closest", box, want.box_tests, tests, want.prim_tests,
-               (unsigned long long)c[k].prim_hits);
+        double box = (double)c[k].box_tests / RAYS, tests = (double)c[k].prim_tests / RAYS,
+               steps = (double)c[k].steps / RAYS;
+        printf("model: %s: %.3f box tests per ray (eq. (3) %.3f), %.3f primitive tests (eq. (3) %.3f), %.3f steps "
+               "(predicted %.3f), %llu hits\n",
+               k ? "nearest, any hit" : "stored, closest", box, want.box_tests, tests, want.prim_tests, steps,
+               want.steps, (unsigned long long)c[k].prim_hits);
+        CHECK_MSG(fabs(steps - want.steps) <= 0.03 * want.steps, "steps %.3f, predicted %.3f", steps, want.steps);
         CHECK_MSG(fabs(box - want.box_tests) <= 0.03 * want.box_tests, "box tests %.3f, predicted %.3f", box, want.box_tests);
         CHECK_MSG(fabs(tests - want.prim_tests) <= 0.03 * want.prim_tests, "tests %.3f, predicted %.3f", tests,
                   want.prim_tests);

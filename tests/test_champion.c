@@ -98,7 +98,7 @@ static void check_tree(const accel *a, const char *label)
     }
     accel_stat st[ACCEL_STATS_MAX];
     int n = accel_stats(a, st, ACCEL_STATS_MAX);
-    CHECK_MSG(n == 8, "%s: %d statistics", label, n);
+    CHECK_MSG(n == 9, "%s: %d statistics", label, n);
     /* The cost model's prediction (tests/test_wide_predict.c checks its
      * values): at least the root's slots' box tests, some primitive tests. */
     for (int i = 0; i < n && w->nnodes; i++) {

@@ -147,9 +147,10 @@ static void test_rows(void)
     int commas = 0;
     for (const char *p = h; *p; p++) commas += *p == ',';
     CHECK(csv_columns() == commas + 1);
-    CHECK(csv_column_index("scene") == 0 && csv_column_index("rayset_hash") == 8 && csv_column_index("agree") == 28);
+    CHECK(csv_column_index("scene") == 0 && csv_column_index("rayset_hash") == 8 && csv_column_index("agree") == 29);
     /* eq. (3)'s predictions beside the measured counters, and not again as stat_ columns. */
-    CHECK(strstr(h, ",mailbox_hits_per_ray,predicted_tests_per_ray,predicted_box_tests_per_ray,agree,") != NULL);
+    CHECK(strstr(h, ",mailbox_hits_per_ray,predicted_tests_per_ray,predicted_box_tests_per_ray,predicted_steps_per_ray,"
+                    "agree,") != NULL);
     CHECK(csv_column_index("stat_predicted_tests_per_ray") == -1 && !strstr(h, "stat_predicted"));
     CHECK(csv_column_index("stat_avg_children") > csv_column_index("stat_nodes"));
     CHECK(csv_column_index("stat_nodes") > csv_column_index("timed_path"));

@@ -57,7 +57,8 @@ static void test_by_hand(void)
     CHECK(fabs(pr.steps - (1.0 + 12.0 / 18.0)) < 1e-9);
     CHECK(fabs(pr.box_tests - 2.0) < 1e-9);
     CHECK(fabs(pr.prim_tests - 12.0 / 18.0) < 1e-9);
-    CHECK(stat_of(a, "predicted_box_tests_per_ray") == pr.box_tests && stat_of(a, "predicted_tests_per_ray") == pr.prim_tests);
+    CHECK(stat_of(a, "predicted_box_tests_per_ray") == pr.box_tests && stat_of(a, "predicted_tests_per_ray") == pr.prim_tests &&
+          stat_of(a, "predicted_steps_per_ray") == pr.steps);
     a->ops->destroy(a);
     scene_free(s);
 }

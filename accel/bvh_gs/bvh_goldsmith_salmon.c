@@ -30,7 +30,8 @@
  *
  * Statistics: nodes, leaves, max_depth, avg_leaf_prims (1), refs_per_prim
  * (1), avg_children, and eq. (3)'s prediction per ray that hits the root,
- * predicted_box_tests_per_ray and predicted_tests_per_ray (random lines
+ * predicted_box_tests_per_ray and predicted_tests_per_ray, with
+ * predicted_steps_per_ray by the same probabilities (random lines
  * that hit the root box; eye and shadow rays from one point depart from
  * it). Counters (nary.h): box_tests, steps; prims/ counts the rest.
  *

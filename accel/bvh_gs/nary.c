@@ -19,11 +19,11 @@ box3 nary_bounds(const nary_t *t) { return t->nnodes ? t->nodes[0].box : box_emp
 
 nary_prediction nary_predict(const nary_t *t)
 {
-    nary_prediction p = {0.0, 0.0};
+    nary_prediction p = {0.0, 0.0, 0.0};
     if (!t->nnodes) return p;
     const nary_node *root = &t->nodes[0];
-    if (!root->count) { /* one primitive: tested without a box */
-        p.prim_tests = 1.0;
+    if (!root->count) { /* one primitive: tested without a box, one step */
+        p.prim_tests = p.steps = 1.0;
         return p;
     }
     double sroot = gs_area(root->box);
@@ -37,7 +37,9 @@ nary_prediction nary_predict(const nary_t *t)
         for (uint32_t k = 0; k < a->count; k++) boxes += t->nodes[a->index + k].count != 0;
         p.box_tests += prob * boxes;
         p.prim_tests += prob * (a->count - boxes);
+        p.steps += prob; /* A opened */
     }
+    p.steps += p.prim_tests; /* each leaf whose primitive is tested is a step */
     return p;
 }
 
@@ -54,6 +56,7 @@ int nary_stats(const nary_t *t, uint32_t nprims, accel_stat *out, int max)
         {"avg_children", interior ? (double)(t->nnodes - 1) / interior : 0.0},
         {"predicted_box_tests_per_ray", p.box_tests},
         {"predicted_tests_per_ray", p.prim_tests},
+        {"predicted_steps_per_ray", p.steps},
     };
     int n = (int)(sizeof all / sizeof all[0]);
     if (n > max) n = max;

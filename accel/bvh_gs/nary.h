@@ -99,16 +99,19 @@ size_t nary_memory(const nary_t *t);
 box3 nary_bounds(const nary_t *t);
 
 /* Equation (3) per ray that hits the root (header): box tests and
- * primitive tests. An empty tree predicts 0 and 0; a root of zero area
- * (every primitive in one point) gives every node probability 1. */
+ * primitive tests; and by the same probabilities the steps (each interior
+ * node opened, each leaf's primitive tested). An empty tree predicts 0; a
+ * root of zero area (every primitive in one point) gives every node
+ * probability 1. */
 typedef struct {
-    double box_tests, prim_tests;
+    double box_tests, prim_tests, steps;
 } nary_prediction;
 nary_prediction nary_predict(const nary_t *t);
 
 /* The accelerator statistics (accel.h): nodes (interior), leaves,
  * max_depth, avg_leaf_prims (1), refs_per_prim (1), avg_children,
- * predicted_box_tests_per_ray, predicted_tests_per_ray. Returns how many it
+ * predicted_box_tests_per_ray, predicted_tests_per_ray,
+ * predicted_steps_per_ray. Returns how many it
  * wrote (at most max). */
 int nary_stats(const nary_t *t, uint32_t nprims, accel_stat *out, int max);
 

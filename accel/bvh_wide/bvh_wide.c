@@ -53,8 +53,8 @@
  * Counters: box_tests = used child slots of every node visited; steps =
  * nodes visited plus leaves tested; prim_tests and prim_hits by prims/.
  * Statistics: the tree's shape, and the cost model's prediction of
- * box_tests and prim_tests per ray (wide_predict.c: the surface-area
- * argument over uniform random lines).
+ * box_tests, prim_tests and steps per ray (wide_predict.c: the
+ * surface-area argument over uniform random lines).
  * Not implemented: Stich et al.'s reference unsplitting. */
 #include <stdio.h>
 #include <stdlib.h>

@@ -316,11 +316,12 @@ int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max)
         {"avg_children", w->nnodes ? (double)w->nchildren / w->nnodes : 0.0},
         {"predicted_box_tests_per_ray", 0.0},
         {"predicted_tests_per_ray", 0.0},
+        {"predicted_steps_per_ray", 0.0},
     };
     int n = (int)(sizeof all / sizeof all[0]);
     const wide_prediction pr = wide_predict(w);
-    if (pr.box_tests < 0.0) n -= 2; /* out of memory: no prediction */
-    all[6].value = pr.box_tests, all[7].value = pr.prim_tests;
+    if (pr.box_tests < 0.0) n -= 3; /* out of memory: no prediction */
+    all[6].value = pr.box_tests, all[7].value = pr.prim_tests, all[8].value = pr.steps;
     if (n > max) n = max;
     memcpy(out, all, (size_t)(n > 0 ? n : 0) * sizeof *out);
     return n;

@@ -310,7 +310,8 @@ typedef struct {
 wide_prediction wide_predict(const wide_bvh *w);
 /* Statistics (accel.h): nodes, leaves, max_depth, avg_leaf_prims,
  * refs_per_prim, avg_children, and wide_predict's
- * predicted_box_tests_per_ray and predicted_tests_per_ray. */
+ * predicted_box_tests_per_ray, predicted_tests_per_ray and
+ * predicted_steps_per_ray. */
 int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max);
 /* For tests: every node's slots hold their children's bounds (a child
  * node's box is the union of its slots; a leaf's holds its primitives'

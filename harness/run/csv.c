@@ -13,13 +13,14 @@ static const char *const columns_head[] = {
     "build_ms", "trace_ms", "trace_ms_min", "trace_ms_max", "mrays_per_s", "ratio_vs_embree", "ratio_min",
     "ratio_max", "embree_ms", "mem_bytes", "bytes_per_prim", "tests_per_ray", "prim_hits_per_ray", "box_tests_per_ray",
     "steps_per_ray", "empty_leaves_per_ray", "mailbox_hits_per_ray", "predicted_tests_per_ray",
-    "predicted_box_tests_per_ray", "agree", "mismatch_real",
+    "predicted_box_tests_per_ray", "predicted_steps_per_ray", "agree", "mismatch_real",
     "mismatch_edge", "mismatch_tol", "mismatch_refwrong", "mismatch_origin", "mismatch_unjudged", "illposed_rays",
     "judge_ms", "serial", "res", "spp", "repeat", "passes", "timed_path", "timed_from", NULL,
 };
 /* Statistics that have columns of their own (in columns_head, beside the
  * measured counters they predict) instead of stat_ ones. */
-static const char *const columns_from_stats[] = {"predicted_tests_per_ray", "predicted_box_tests_per_ray", NULL};
+static const char *const columns_from_stats[] = {"predicted_tests_per_ray", "predicted_box_tests_per_ray",
+                                                 "predicted_steps_per_ray", NULL};
 
 static bool own_column(const char *stat)
 {
