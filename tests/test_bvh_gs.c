@@ -215,46 +215,6 @@ static void finish_prims(prims_t *p)
     }
 }
 
-static vec3 random_dir(void)
-{
-    for (;;) {
-        vec3 d = rnd_v3(-1, 1);
-        float l = v3_len(d);
-        if (l > 1e-3f && l <= 1.0f) return v3_scale(d, 1.0f / l);
-    }
-}
-
-/* A random line that meets box bx, uniform in the measure of lines
- * (direction uniform on the sphere, then a point uniform on the plane
- * across it, kept when the line meets the box), as a ray from far away. */
-static ray_t random_line(box3 bx)
-{
-    vec3 c = box_center(bx);
-    float r = 0.5f * box_diagonal(bx);
-    for (;;) {
-        vec3 d = random_dir();
-        vec3 u = v3_norm(v3_cross(d, fabsf(d.x) < 0.9f ? v3(1, 0, 0) : v3(0, 1, 0))), w = v3_cross(d, u);
-        float a = rnd(-r, r), e = rnd(-r, r);
-        if (a * a + e * e > r * r) continue;
-        vec3 o = v3_sub(v3_add(c, v3_add(v3_scale(u, a), v3_scale(w, e))), v3_scale(d, 4.0f * r));
-        float t0 = 0, t1 = INFINITY;
-        bool meets = true;
-        for (int k = 0; k < 3 && meets; k++) {
-            float oo = v3_get(o, k), dd = v3_get(d, k), lo = v3_get(bx.lo, k), hi = v3_get(bx.hi, k);
-            if (dd == 0.0f) {
-                meets = oo >= lo && oo <= hi;
-                continue;
-            }
-            float ta = (lo - oo) / dd, tb = (hi - oo) / dd;
-            if (ta > tb) { float x = ta; ta = tb; tb = x; }
-            t0 = ta > t0 ? ta : t0;
-            t1 = tb < t1 ? tb : t1;
-            meets = t0 <= t1;
-        }
-        if (meets) return make_ray(o, d, 0.0f, INFINITY);
-    }
-}
-
 static void test_model(void)
 {
     /* 600 spheres of radius 1e-3 in clusters over a 40-unit box: a ray
