@@ -408,16 +408,7 @@ static int champ_stats(const accel *a, accel_stat *out, int max)
     return wide_stats(&t->w, t->p->count, out, max);
 }
 
-/* The union of the root's slots. */
-static box3 champ_bounds(const accel *a)
-{
-    const champ_t *t = (const champ_t *)a;
-    box3 b = box_empty();
-    if (!t->w.nnodes) return b;
-    const uint32_t n = WIDE_NCHILDREN_Q(t->w.nodes, t->w.width, t->w.quantized);
-    for (uint32_t k = 0; k < n; k++) b = box_union(b, wide_node_slot_box(&t->w, 0, k));
-    return b;
-}
+static box3 champ_bounds(const accel *a) { return wide_bounds(&((const champ_t *)a)->w); }
 
 /* For tests (tests/test_champion.c): the tree and the kernels that run. */
 const wide_bvh *bvh_wide_tree(const accel *a, wide_isa *isa)

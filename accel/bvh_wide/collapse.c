@@ -266,12 +266,9 @@ int wide_collapse(wide_bvh *w, bvh_t *b, uint32_t width, const wide_merge *m, co
     w->width = width;
     if (!b->nnodes) return 0;
     uint32_t total = plan->nodes;
-    size_t bytes = (size_t)total * wide_node_bytes(width);
-    w->nodes = big_alloc(bytes); /* 64-byte aligned, on huge pages when large (accel/common/big_alloc.h) */
-    if (w->nodes) {
-        memset(w->nodes, 0, bytes);
-        w->nnodes = total;
-    }
+    /* 64-byte aligned, on huge pages when large (accel/common/big_alloc.h) */
+    w->nodes = big_calloc(total, wide_node_bytes(width));
+    if (w->nodes) w->nnodes = total;
     if (!w->nodes || collapse(w, b, width, m, plan->span, &total)) {
         free(w->nodes);
         memset(w, 0, sizeof *w);
@@ -292,6 +289,15 @@ void wide_free(wide_bvh *w)
     memset(w, 0, sizeof *w);
 }
 
+box3 wide_bounds(const wide_bvh *w)
+{
+    box3 b = box_empty();
+    if (!w->nnodes) return b;
+    const uint32_t n = WIDE_NCHILDREN_Q(w->nodes, w->width, w->quantized);
+    for (uint32_t k = 0; k < n; k++) b = box_union(b, wide_node_slot_box(w, 0, k));
+    return b;
+}
+
 size_t wide_memory(const wide_bvh *w)
 {
     return (size_t)w->nnodes * WIDE_NODE_SIZE(w->width, w->quantized) + (size_t)w->nrefs * sizeof(uint32_t) +
@@ -307,6 +313,7 @@ uint32_t wide_stack_cap(const wide_bvh *w)
 
 int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max)
 {
+    const wide_prediction pr = wide_predict(w);
     accel_stat all[] = {
         {"nodes", (double)w->nnodes},
         {"leaves", (double)w->nleaves},
@@ -314,14 +321,12 @@ int wide_stats(const wide_bvh *w, uint32_t nprims, accel_stat *out, int max)
         {"avg_leaf_prims", w->nleaves ? (double)w->nrefs / w->nleaves : 0.0},
         {"refs_per_prim", nprims ? (double)w->nrefs / nprims : 0.0},
         {"avg_children", w->nnodes ? (double)w->nchildren / w->nnodes : 0.0},
-        {"predicted_box_tests_per_ray", 0.0},
-        {"predicted_tests_per_ray", 0.0},
-        {"predicted_steps_per_ray", 0.0},
+        /* the last three: the cost model's, left out when it ran out of memory */
+        {"predicted_box_tests_per_ray", pr.box_tests},
+        {"predicted_tests_per_ray", pr.prim_tests},
+        {"predicted_steps_per_ray", pr.steps},
     };
-    int n = (int)(sizeof all / sizeof all[0]);
-    const wide_prediction pr = wide_predict(w);
-    if (pr.box_tests < 0.0) n -= 3; /* out of memory: no prediction */
-    all[6].value = pr.box_tests, all[7].value = pr.prim_tests, all[8].value = pr.steps;
+    int n = (int)(sizeof all / sizeof all[0]) - (pr.box_tests < 0.0 ? 3 : 0);
     if (n > max) n = max;
     memcpy(out, all, (size_t)(n > 0 ? n : 0) * sizeof *out);
     return n;

@@ -298,6 +298,8 @@ uint64_t wide_count_packets(const wide_bvh *w, const prims_t *p);
  * 0, or -1 out of memory (w unchanged). */
 int wide_pack_leaves(wide_bvh *w, const prims_t *p);
 size_t wide_node_bytes(uint32_t width);
+/* The union of the root's slots: everything (empty for an empty tree). */
+box3 wide_bounds(const wide_bvh *w);
 /* Bytes held: nodes and refs. */
 size_t wide_memory(const wide_bvh *w);
 /* Stack entries a walk of w can need at most. */

@@ -30,12 +30,9 @@ wide_prediction wide_predict(const wide_bvh *w)
     if (!w->nnodes) return pr;
     const uint32_t W = w->width;
     const bool Q = w->quantized;
-    box3 root = box_empty();
-    const uint32_t nroot = WIDE_NCHILDREN_Q(WIDE_NODE_AT(w->nodes, 0, W, Q), W, Q);
-    for (uint32_t k = 0; k < nroot; k++) root = box_union(root, wide_node_slot_box(w, 0, k));
     /* A root of zero area (every primitive in one point or on one line
      * segment of a plane): every line that meets it meets every box. */
-    const double area = box_area(root);
+    const double area = box_area(wide_bounds(w));
     /* Depth-first over the nodes, each pushed once, by its parent, with
      * the probability that a line meeting the root meets its box. */
     uint32_t *stack = malloc((size_t)w->nnodes * sizeof *stack), sp = 0;
