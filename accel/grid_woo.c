@@ -56,6 +56,7 @@
 #include "common/coincident.h"
 #include "common/mailbox.h"
 #include "common/float_res.h"
+#include "common/line_model.h"
 #include "common/memcap.h"
 #include "common/prim_hit.h"
 #include "common/slab.h"
@@ -733,11 +734,38 @@ uint64_t grid_debug_list_hash(const accel *a)
 
 /* ------------------------------------------------------- version 2 */
 
+/* The random-line model (common/line_model.h) over every cell: voxels
+ * entered and, when no ray box, per-voxel box or woo90 check culls
+ * candidates (no model of theirs is stated), the primitive tests and the
+ * one clip test of the grid's box. Returns the number of rows written. */
+static int grid_predict(const grid_t *g, accel_stat *out)
+{
+    line_model m;
+    if (line_model_init(&m, g->box, g->p->count, g->mailbox) != 0) return 0;
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++) {
+                box3 cell = {v3(g->planes[0][i], g->planes[1][j], g->planes[2][k]),
+                             v3(g->planes[0][i + 1], g->planes[1][j + 1], g->planes[2][k + 1])};
+                uint32_t c = (uint32_t)i + g->stride[1] * (uint32_t)j + g->stride[2] * (uint32_t)k;
+                line_model_cell(&m, cell, 0, g->ids + g->start[c], g->start[c + 1] - g->start[c]);
+            }
+    line_prediction pr = line_model_result(&m);
+    line_model_free(&m);
+    int n = 0;
+    out[n++] = (accel_stat){"predicted_steps_per_ray", pr.cells};
+    if (!g->raybox && !g->voxbox && !g->woo90 && g->mtf != MTF_ALMOST) {
+        out[n++] = (accel_stat){"predicted_tests_per_ray", pr.tests};
+        out[n++] = (accel_stat){"predicted_box_tests_per_ray", 1.0};
+    }
+    return n;
+}
+
 static int grid_stats(const accel *a, accel_stat *out, int max)
 {
     const grid_t *g = (const grid_t *)a;
     uint32_t count = g->p->count;
-    accel_stat all[] = {
+    accel_stat all[11] = {
         {"nodes", (double)g->ncells},
         {"leaves", (double)g->nonempty},
         {"empty_leaves", (double)(g->ncells - g->nonempty)},
@@ -747,7 +775,7 @@ static int grid_stats(const accel *a, accel_stat *out, int max)
         {"res_y", g->n[1]},
         {"res_z", g->n[2]},
     };
-    int n = (int)(sizeof all / sizeof all[0]);
+    int n = 8 + grid_predict(g, all + 8);
     if (n > max) n = max;
     for (int k = 0; k < n; k++) out[k] = all[k];
     return n;

@@ -15,18 +15,10 @@
 #define PRIMS_TEST_SEED 0x5eed2026u
 #include "prims_testlib.h"
 #include "testlib.h"
+#include "line_testlib.h"
 #include "accel/bvh_wide/wide.h"
 #include "accel/bvh_wide/bvh_wide.h"
 
-
-static double stat_of(const accel *a, const char *name)
-{
-    accel_stat st[32];
-    int n = accel_stats(a, st, 32);
-    for (int i = 0; i < n; i++)
-        if (!strcmp(st[i].name, name)) return st[i].value;
-    return NAN;
-}
 
 static scene_t *finished(scene_t *s)
 {
@@ -55,8 +47,8 @@ static void test_by_hand(void)
     CHECK(fabs(pr.steps - (1.0 + 12.0 / 18.0)) < 1e-9);
     CHECK(fabs(pr.box_tests - 2.0) < 1e-9);
     CHECK(fabs(pr.prim_tests - 12.0 / 18.0) < 1e-9);
-    CHECK(stat_of(a, "predicted_box_tests_per_ray") == pr.box_tests && stat_of(a, "predicted_tests_per_ray") == pr.prim_tests &&
-          stat_of(a, "predicted_steps_per_ray") == pr.steps);
+    CHECK(test_stat(a, "predicted_box_tests_per_ray") == pr.box_tests && test_stat(a, "predicted_tests_per_ray") == pr.prim_tests &&
+          test_stat(a, "predicted_steps_per_ray") == pr.steps);
     a->ops->destroy(a);
     scene_free(s);
 }
@@ -66,16 +58,8 @@ static void test_against_lines(const scene_t *s, const char *cfg, uint32_t nline
     accel *a = test_build_or_die("bvh", s, cfg);
     const wide_bvh *w = bvh_wide_tree(a, NULL);
     const wide_prediction pr = wide_predict(w);
-    box3 root = a->ops->bounds(a);
-    accel_ctx *ctx = a->ops->context_new(a);
     counters_t c = {0};
-    uint32_t hits = 0;
-    for (uint32_t i = 0; i < nlines; i++) {
-        ray_t ray = random_line(root);
-        hit_t h = hit_none(&ray);
-        hits += a->ops->intersect(a, ctx, &ray, &h, &c);
-    }
-    a->ops->context_free(ctx);
+    const uint32_t hits = trace_random_lines(a, nlines, &c);
     const double steps = (double)c.steps / nlines, box = (double)c.box_tests / nlines,
                  prim = (double)c.prim_tests / nlines;
     printf("%-8s %u lines (%u hit a triangle): steps %.3f predicted %.3f, box tests %.3f predicted %.3f, prim "

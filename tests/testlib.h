@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 #include "accel/accel.h"
 #include "harness/workloads/trace.h"
@@ -76,6 +77,17 @@ static inline accel *test_build_or_die(const char *name, const scene_t *s, const
         exit(2);
     }
     return a;
+}
+
+/* The statistic `name` of a built accelerator (accel_stats), or NAN when
+ * it reports none: a prediction a structure does not state is absent. */
+static inline double test_stat(const accel *a, const char *name)
+{
+    accel_stat st[ACCEL_STATS_MAX];
+    int n = accel_stats(a, st, ACCEL_STATS_MAX);
+    for (int i = 0; i < n; i++)
+        if (!strcmp(st[i].name, name)) return st[i].value;
+    return NAN;
 }
 
 /* The build of `name` with settings cfg must be refused with a reason that

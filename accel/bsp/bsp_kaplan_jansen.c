@@ -441,6 +441,11 @@ static int bsp_stats(const accel *a, accel_stat *out, int max)
     const bsp_t *t = (const bsp_t *)a;
     const kd_tree *k = &t->tree;
     uint32_t full = k->nleaves - k->nempty;
+    /* The random-line model: the root clip, the nodes the walk visits
+     * (every node of every descent for sequential), the candidates tested. */
+    line_prediction pr;
+    double nodes_met;
+    kd_predict(k, t->p->count, t->mailbox, &pr, &nodes_met);
     accel_stat all[] = {
         {"nodes", (double)k->ninterior},
         {"leaves", (double)k->nleaves},
@@ -448,6 +453,9 @@ static int bsp_stats(const accel *a, accel_stat *out, int max)
         {"max_depth", (double)k->max_depth},
         {"avg_leaf_prims", full ? (double)k->nrefs / full : 0.0},
         {"refs_per_prim", t->p->count ? (double)k->nrefs / t->p->count : 0.0},
+        {"predicted_steps_per_ray", t->traverse == TRAV_SEQUENTIAL ? pr.descents : nodes_met},
+        {"predicted_tests_per_ray", pr.tests},
+        {"predicted_box_tests_per_ray", 1.0},
     };
     int n = (int)(sizeof all / sizeof all[0]);
     if (n > max) n = max;

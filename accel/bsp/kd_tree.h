@@ -52,6 +52,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "../../prims/prims.h"
+#include "../common/line_model.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -115,6 +116,14 @@ int kd_build(kd_tree *t, const prims_t *p, const kd_config *cfg, char *err, size
 void kd_free(kd_tree *t);
 /* Bytes held: node and id arrays (allocated capacity). */
 size_t kd_memory(const kd_tree *t);
+
+/* The random-line model (common/line_model.h) over the leaves' cells:
+ * leaves entered (.cells), candidates tested (.tests, counted once per
+ * primitive with mailbox), root-to-leaf descents (.descents: the nodes a
+ * sequential walk visits); *nodes_met gets the interior and leaf nodes
+ * whose cells a line meets (what a recursive walk visits). Returns -1 (and
+ * a prediction of -1s) when the mailbox's scratch cannot be allocated. */
+int kd_predict(const kd_tree *t, uint32_t nprims, bool mailbox, line_prediction *out, double *nodes_met);
 
 /* The primitive list of a leaf: n ids at the returned pointer. */
 static inline const uint32_t *kd_leaf_ids(const kd_tree *t, const kd_node *n, uint32_t *count)

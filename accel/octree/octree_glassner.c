@@ -51,6 +51,7 @@
 #include <string.h>
 #include "../accel.h"
 #include "../common/coincident.h"
+#include "../common/line_model.h"
 #include "hash_mod.h"
 #include "../common/mailbox.h"
 #include "../common/memcap.h"
@@ -92,6 +93,7 @@ typedef struct {
     uint64_t step_cap;  /* a walk longer than this falls back */
     double probes_avg, probes_miss_avg;
     uint32_t probes_max;
+    line_prediction predicted; /* the random-line model over the voxels made */
 } octree_t;
 
 struct accel_ctx {
@@ -145,6 +147,7 @@ typedef struct {
     uint64_t memcap;    /* MiB */
     uint32_t nprims;
     prim_classes classes; /* coincident primitives, counted once against maxprims */
+    line_model model;     /* every voxel made, stored or empty, with its list */
     char *err;
     size_t errlen;
     bool failed;
@@ -239,8 +242,11 @@ static bool candidate(const builder *B, uint32_t id, box3 v)
            b.hi.z <= v.hi.z;
 }
 
-static void note_voxel(octree_t *o, box3 b, int depth)
+/* A voxel made, stored (its list) or empty (no list). */
+static void note_voxel(builder *B, box3 b, int depth, const uint32_t *cand, uint32_t n)
 {
+    octree_t *o = B->o;
+    line_model_cell(&B->model, b, depth, cand, n);
     float e = min_edge(b);
     if (e < o->minlen) o->minlen = e;
     if (depth > o->depth) o->depth = depth;
@@ -294,7 +300,7 @@ static void build_node(builder *B, oct_name name, int depth, box3 box, const uin
                 uint32_t nc = off[c + 1] - off[c];
                 if (!nc) {
                     o->nempty++; /* Glassner: an empty voxel has no node */
-                    note_voxel(o, cb, depth + 1);
+                    note_voxel(B, cb, depth + 1, NULL, 0);
                     continue;
                 }
                 build_node(B, name * 10 + 1 + c, depth + 1, cb, buf + off[c], nc);
@@ -308,7 +314,7 @@ static void build_node(builder *B, oct_name name, int depth, box3 box, const uin
         }
     }
     /* A leaf. */
-    note_voxel(o, box, depth);
+    note_voxel(B, box, depth, cand, n);
     if (!n) {
         o->nempty++; /* only the root of an empty scene gets here */
         return;
@@ -411,6 +417,12 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
         goto fail;
     }
     B.scratch += (uint64_t)p->count * sizeof(uint32_t) * (B.classes.rep != NULL);
+    if (over_cap(&B, (uint64_t)p->count * (sizeof(box3) + sizeof(double)) * mailbox)) goto fail;
+    if (line_model_init(&B.model, o->root, p->count, mailbox)) {
+        fail_oom(&B, "the cost model's per-primitive boxes");
+        goto fail;
+    }
+    B.scratch += (uint64_t)p->count * (sizeof(box3) + sizeof(double)) * mailbox;
 
     /* The root's candidates: every primitive touching the root box (all of
      * them but those whose bounds are empty). */
@@ -430,6 +442,8 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
     build_node(&B, 1, 0, o->root, all, nall);
     free(all);
     if (B.failed) goto fail;
+    o->predicted = line_model_result(&B.model);
+    line_model_free(&B.model);
 
     /* The name table: a prime number of buckets, load at most 1. */
     uint32_t size = hash_mod_prime_at_least(B.nentries);
@@ -450,6 +464,7 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
 fail:
     free(B.entries);
     prim_classes_free(&B.classes);
+    line_model_free(&B.model);
     octree_destroy(&o->base);
     return NULL;
 }
@@ -770,9 +785,15 @@ static int octree_stats(const accel *a, accel_stat *out, int max)
         {"hash_probes_avg", o->probes_avg},
         {"hash_probes_max", (double)o->probes_max},
         {"hash_probes_miss_avg", o->probes_miss_avg},
+        /* the random-line model (common/line_model.h); box tests: the root
+         * clip and, walk=glassner, a lookup per level of every descent */
+        {"predicted_steps_per_ray", o->predicted.cells},
+        {"predicted_tests_per_ray", o->predicted.tests},
+        {"predicted_box_tests_per_ray", 1.0 + o->predicted.descents},
     };
     int n = 0;
-    for (size_t k = 0; k < sizeof all / sizeof all[0] && n < max; k++)
+    size_t rows = sizeof all / sizeof all[0] - (o->walk != WALK_GLASSNER); /* fujimoto: no box-test model */
+    for (size_t k = 0; k < rows && n < max; k++)
         out[n++] = all[k];
     return n;
 }
