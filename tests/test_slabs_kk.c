@@ -22,7 +22,11 @@
  *               depth-first walk expands (so never more steps) with the
  *               same answer as exhaustive; the depth-first walk does visit
  *               out of key order (the check can fail)
- *   refusals    bad parameter values name the parameter */
+ *   refusals    bad parameter values name the parameter
+ *   area        planeset_area (the cost model's volume areas) by hand: a
+ *               box, a cube whose diagonal slabs do not bind, one with a
+ *               corner cut off, a flat square (both sides), an empty
+ *               volume, and the same cube far from the origin */
 #include <string.h>
 #include "accel/slabs_kk/slabs_kay_kajiya.h"
 #include "testlib.h"
@@ -485,6 +489,53 @@ static void test_refusals(void)
     scene_free(s);
 }
 
+/* The 7-normal volume of box [lo, lo + 1]^3 moved by off, its diagonal
+ * slabs exactly the cube's ranges (so not binding). */
+static void cube_volume(planeset_slab v[7], double off)
+{
+    for (int k = 0; k < 7; k++) {
+        double lo = 0, hi = 0;
+        for (int c = 0; c < 3; c++) {
+            double n = planeset_normals[k][c];
+            lo += n < 0 ? n * (off + 1) : n * off;
+            hi += n < 0 ? n * off : n * (off + 1);
+        }
+        v[k][0] = (float)lo, v[k][1] = (float)hi;
+    }
+}
+
+static void test_area(void)
+{
+    planeset_slab v[7];
+    cube_volume(v, 0.0);
+    CHECK(fabs(planeset_area(v, 3) - 6.0) < 1e-12);
+    CHECK(fabs(planeset_area(v, 7) - 6.0) < 1e-9);
+    /* N = (1,1,1) cut at 2.5: a corner tetrahedron of legs 0.5 goes, three
+     * right triangles of area 1/8 off the faces, an equilateral triangle
+     * of side sqrt(0.5) on: 6 - 3/8 + sqrt(3)/8. */
+    v[3][1] = 2.5f;
+    const double cut = 6.0 - 0.375 + sqrt(3.0) / 8.0;
+    printf("area: corner cut %.9f, by hand %.9f\n", planeset_area(v, 7), cut);
+    CHECK(fabs(planeset_area(v, 7) - cut) < 1e-9);
+    /* A flat unit square (z = 0): both sides. */
+    cube_volume(v, 0.0);
+    v[2][1] = 0.0f;
+    for (int k = 3; k < 7; k++) { /* the diagonals' ranges over the square */
+        double lo = 0, hi = 0;
+        for (int c = 0; c < 2; c++) {
+            double n = planeset_normals[k][c];
+            lo += n < 0 ? n : 0, hi += n < 0 ? 0 : n;
+        }
+        v[k][0] = (float)lo, v[k][1] = (float)hi;
+    }
+    CHECK(fabs(planeset_area(v, 7) - 2.0) < 1e-9);
+    CHECK(fabs(planeset_area(v, 3) - 2.0) < 1e-12);
+    v[0][0] = 2.0f; /* lo > hi: empty */
+    CHECK(planeset_area(v, 7) == 0.0 && planeset_area(v, 3) == 0.0);
+    cube_volume(v, 10000.0);
+    CHECK(fabs(planeset_area(v, 7) - 6.0) < 1e-6);
+}
+
 int main(void)
 {
     test_parallel();
@@ -493,5 +544,6 @@ int main(void)
     test_trees();
     test_heap_order();
     test_refusals();
+    test_area();
     return check_report();
 }

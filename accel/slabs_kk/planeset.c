@@ -1,6 +1,7 @@
 /* planeset.c: the plane-set normals and the per-ray constants of the
  * plane-set volume test (planeset.h says what they guarantee and why). */
 #include <float.h>
+#include <string.h>
 #include "planeset.h"
 
 const float planeset_normals[PLANESET_MAX][3] = {
@@ -102,4 +103,94 @@ bool planeset_ray_init(planeset_ray *r, uint32_t count, vec3 org, vec3 dir)
         for (uint32_t k = 0; k < 4; k++) set_slab(r, 3 + k, so[k], err_o[k], sd[k], err_d[k]);
     }
     return true;
+}
+
+/* ------------------------------------------------------ surface area */
+
+enum { FACE_MAX = 4 + 2 * PLANESET_MAX }; /* a square clipped by 2K - 1 planes gains at most one vertex each */
+
+typedef struct {
+    double n[3], d; /* the half-space n . x <= d */
+} halfspace;
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Keep the part of polygon p (n vertices) in h, within tol; returns the
+ * new vertex count. */
+static int clip_polygon(double p[][3], int n, const halfspace *h, double tol)
+{
+    double out[FACE_MAX + 2][3];
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        const double *a = p[i], *b = p[(i + 1) % n];
+        double da = dot3(h->n, a) - h->d, db = dot3(h->n, b) - h->d;
+        bool ina = da <= tol, inb = db <= tol;
+        if (ina && m < FACE_MAX + 2) memcpy(out[m++], a, sizeof out[0]);
+        if (ina != inb && m < FACE_MAX + 2) {
+            double t = da / (da - db);
+            for (int k = 0; k < 3; k++) out[m][k] = a[k] + t * (b[k] - a[k]);
+            m++;
+        }
+    }
+    memcpy(p, out, (size_t)m * sizeof out[0]);
+    return m;
+}
+
+double planeset_area(const planeset_slab *v, uint32_t K)
+{
+    if (K == 3) { /* a box */
+        if (!(v[0][0] <= v[0][1] && v[1][0] <= v[1][1] && v[2][0] <= v[2][1])) return 0.0;
+        double x = (double)v[0][1] - v[0][0], y = (double)v[1][1] - v[1][0], z = (double)v[2][1] - v[2][0];
+        return 2.0 * (x * y + y * z + z * x);
+    }
+    halfspace h[2 * PLANESET_MAX];
+    double scale = 0.0;
+    for (uint32_t k = 0; k < K; k++) {
+        if (!(v[k][0] <= v[k][1])) return 0.0; /* empty (or NaN) */
+        for (int s = 0; s < 2; s++) {
+            double sign = s ? -1.0 : 1.0;
+            for (int c = 0; c < 3; c++) h[2 * k + s].n[c] = sign * planeset_normals[k][c];
+            h[2 * k + s].d = sign * (s ? v[k][0] : v[k][1]);
+            scale = fmax(scale, fabs(v[k][0]) + fabs(v[k][1]));
+        }
+    }
+    /* Every point of the polytope is within sqrt(3) scale of the origin
+     * (the axis slabs bound it) and each plane's point nearest the origin
+     * within scale of it, so a square of half-side 4 (scale + ext) about
+     * that point covers the plane's face. */
+    double ext = 0.0;
+    for (int c = 0; c < 3; c++) ext += (double)v[c][1] - v[c][0];
+    const double half = 4.0 * (scale + ext) + 1.0, tol = 1e-12 * (scale + ext);
+    double area = 0.0;
+    for (uint32_t f = 0; f < 2 * K; f++) {
+        const double *n = h[f].n;
+        double nn = dot3(n, n), o[3], u[3], w[3];
+        for (int c = 0; c < 3; c++) o[c] = n[c] * h[f].d / nn;
+        /* u: a unit vector across n; w = n x u / |n|. */
+        double a[3] = {fabs(n[0]) < 0.5 ? 1.0 : 0.0, fabs(n[0]) < 0.5 ? 0.0 : 1.0, 0.0};
+        u[0] = n[1] * a[2] - n[2] * a[1], u[1] = n[2] * a[0] - n[0] * a[2], u[2] = n[0] * a[1] - n[1] * a[0];
+        double lu = sqrt(dot3(u, u)), ln = sqrt(nn);
+        for (int c = 0; c < 3; c++) u[c] /= lu;
+        w[0] = (n[1] * u[2] - n[2] * u[1]) / ln, w[1] = (n[2] * u[0] - n[0] * u[2]) / ln,
+        w[2] = (n[0] * u[1] - n[1] * u[0]) / ln;
+        double p[FACE_MAX + 2][3];
+        static const double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+        for (int i = 0; i < 4; i++)
+            for (int c = 0; c < 3; c++) p[i][c] = o[c] + half * (corner[i][0] * u[c] + corner[i][1] * w[c]);
+        int m = 4;
+        for (uint32_t g = 0; g < 2 * K && m >= 3; g++)
+            if (g != f) m = clip_polygon(p, m, &h[g], tol);
+        /* The polygon's area: half the length of the sum of its edges'
+         * cross products about vertex 0. */
+        double s[3] = {0, 0, 0};
+        for (int i = 1; i + 1 < m; i++) {
+            double e1[3], e2[3];
+            for (int c = 0; c < 3; c++) e1[c] = p[i][c] - p[0][c], e2[c] = p[i + 1][c] - p[0][c];
+            s[0] += e1[1] * e2[2] - e1[2] * e2[1];
+            s[1] += e1[2] * e2[0] - e1[0] * e2[2];
+            s[2] += e1[0] * e2[1] - e1[1] * e2[0];
+        }
+        area += 0.5 * sqrt(dot3(s, s));
+    }
+    return area;
 }

@@ -83,6 +83,14 @@ extern const float planeset_normals[PLANESET_MAX][3];
 /* A volume's slab k: slab[k][0] = lo, slab[k][1] = hi. */
 typedef float planeset_slab[2];
 
+/* The surface area of volume v over the first K normals (3 or 7): the
+ * convex polytope { lo_k <= N_k . x <= hi_k }, each of its 2K planes'
+ * faces clipped by the other half-spaces (Sutherland-Hodgman), in double.
+ * A flat volume (lo == hi on a normal) counts both sides, as the measure of
+ * the lines meeting a flat body asks; an empty one (lo > hi) is 0. The
+ * cost model's P(a line meets v) = area(v) / area(root) (Cauchy-Crofton). */
+double planeset_area(const planeset_slab *v, uint32_t K);
+
 typedef struct {
     uint32_t count;                  /* normals used: 3 or 7 */
     uint8_t near[PLANESET_MAX];      /* 0: lo is the near plane (N . D > 0 or parallel), 1: hi */

@@ -340,10 +340,41 @@ static size_t kk_memory(const accel *a)
     return sizeof *t + (size_t)t->topo.nnodes * node_bytes(t->normals) + (size_t)t->topo.nrefs * sizeof(uint32_t);
 }
 
+/* The surface-area model (the survey's eq. (3), MacDonald and Booth) over
+ * the plane-set volumes, for lines uniform over those that meet the root
+ * volume, walked whole (nothing hit): every node whose volume a line meets
+ * is expanded (a step), an interior one tests its two children's volumes,
+ * a leaf its primitives; plus the root's own test. P(node) = area(node) /
+ * area(root) with each volume's own polytope area (planeset_area). */
+static void kk_predict(const kk_t *t, double *steps, double *box_tests, double *tests)
+{
+    const uint32_t K = t->normals;
+    *steps = *tests = 0.0;
+    *box_tests = 1.0;
+    if (!t->topo.nnodes) return;
+    const double root = planeset_area(node_slab(t, 0, K), K);
+    for (uint32_t i = 0; i < t->topo.nnodes; i++) {
+        const double p = root > 0.0 ? planeset_area(node_slab(t, i, K), K) / root : 1.0;
+        const uint32_t count = node_count(t, i, K);
+        *steps += p;
+        if (count) *tests += p * count;
+        else *box_tests += 2.0 * p;
+    }
+}
+
 static int kk_stats(const accel *a, accel_stat *out, int max)
 {
     const kk_t *t = (const kk_t *)a;
-    return bvh_stats(&t->topo, t->p->count, out, max);
+    int n = bvh_stats(&t->topo, t->p->count, out, max);
+    double steps, box_tests, tests;
+    kk_predict(t, &steps, &box_tests, &tests);
+    const accel_stat predicted[] = {
+        {"predicted_steps_per_ray", steps},
+        {"predicted_box_tests_per_ray", box_tests},
+        {"predicted_tests_per_ray", tests},
+    };
+    for (int k = 0; k < 3 && n < max; k++) out[n++] = predicted[k];
+    return n;
 }
 
 /* The root's axis slabs: its box (the first three normals are the axes). */
