@@ -49,6 +49,7 @@
  * meshes for curved surfaces, culling of solids neither convex nor
  * embedded, per-cell minimum depths, per-light resolutions, adaptive face
  * subdivision (survey figure 18(c)). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -930,6 +931,52 @@ static size_t lb_memory(const accel *a)
     return b;
 }
 
+/* The solid angle of the part [u0, u1] x [v0, v1] of a cube face at
+ * distance 1 (the rectangle's corners in inclusion-exclusion over
+ * F(u, v) = atan(u v / sqrt(1 + u^2 + v^2)), the solid angle of [0, u] x
+ * [0, v]). */
+static double face_solid_angle(double u0, double u1, double v0, double v1)
+{
+#define F(u, v) atan((u) * (v) / sqrt(1.0 + (u) * (u) + (v) * (v)))
+    return F(u1, v1) - F(u0, v1) - F(u1, v0) + F(u0, v0);
+#undef F
+}
+
+/* The model of a query's reading (Haines and Greenberg's argument from the
+ * direction cube): a shadow query starts on a surface, so its direction
+ * from the light lies in a cell that lists something; with directions
+ * uniform over the solid angle of those cells (each cell's chance its
+ * solid angle over theirs), the list entries a query can read are its
+ * cell's list plus the near list, averaged over the lights. It reads them
+ * all only when nothing stops it: the stopping rule (a candidate beyond
+ * the point), an occluder, a full-occlusion record and the single-polygon
+ * test end or skip the reading, and rays the fallback answers are not in
+ * it. One cell read per query. */
+static double lb_predict_tests(const lb_t *t)
+{
+    if (!t->nlights) return 0.0;
+    const uint32_t res = t->res;
+    double *omega = malloc((size_t)res * res * sizeof *omega), sum = 0.0;
+    if (!omega) return -1.0;
+    for (uint32_t j = 0; j < res; j++)
+        for (uint32_t i = 0; i < res; i++) {
+            double u0 = -1.0 + 2.0 * i / res, v0 = -1.0 + 2.0 * j / res;
+            omega[j * res + i] = face_solid_angle(u0, u0 + 2.0 / res, v0, v0 + 2.0 / res);
+        }
+    for (uint32_t l = 0; l < t->nlights; l++) {
+        const lb_light *L = &t->lights[l];
+        double listed = 0.0, entries = 0.0;
+        for (uint32_t c = 0; c < t->ncells; c++)
+            if (L->cells[c].count) {
+                listed += omega[c % (res * res)];
+                entries += omega[c % (res * res)] * L->cells[c].count;
+            }
+        sum += (listed > 0.0 ? entries / listed : 0.0) + L->nnear;
+    }
+    free(omega);
+    return sum / t->nlights;
+}
+
 static int lb_stats(const accel *a, accel_stat *out, int max)
 {
     const lb_t *t = (const lb_t *)a;
@@ -947,6 +994,8 @@ static int lb_stats(const accel *a, accel_stat *out, int max)
         {"refs_per_prim", t->p->count ? (double)(refs + near) / t->p->count : 0.0},
         {"res_x", (double)t->res},
         {"res_y", (double)t->res},
+        {"predicted_steps_per_ray", t->nlights ? 1.0 : 0.0},
+        {"predicted_tests_per_ray", lb_predict_tests(t)},
     };
     int n = (int)(sizeof s / sizeof s[0]);
     if (n > max) n = max;
