@@ -623,6 +623,26 @@ def rows_and_folder(args, required=REQUIRED):
     return rows, out
 
 
+def run_folder_rows(run, out=None, required=REQUIRED, accelbench=None):
+    """For the scripts that read one run (predict.py, calibrate.py): the CSV's path (run is a folder holding
+    matrix.csv, or the CSV), its rows without Embree's (one per cell), the output folder (out, else the CSV's;
+    it must exist) and the configurations' labels."""
+    csv_path = os.path.join(run, "matrix.csv") if os.path.isdir(run) else run
+    rows = [r for r in dedup_rows(load_rows(csv_path, required), csv_path) if r["accel"] != "embree"]
+    folder = out or os.path.dirname(os.path.abspath(csv_path))
+    if not os.path.isdir(folder):
+        fail(f"--out {folder}: no such folder")
+    return csv_path, rows, folder, config_labels(rows, defaults=accel_defaults_from_env(accelbench))
+
+
+def write_text(path, text):
+    """Write a text file whole or not at all (through a temporary file renamed over it)."""
+    check_replaceable(path)
+    with open(path + ".tmp", "w", encoding="utf-8", newline="") as f:
+        f.write(text)
+    os.replace(path + ".tmp", path)
+
+
 def main(argv=None):
     """Load the CSV and write all plots."""
     args = parse_args(argv)

@@ -8,6 +8,8 @@
  *   accelbench render  --scene S --accel A --out FILE.png [...]    image or cost heat map
  *   accelbench reproduce woo92|havran|spd [--out DIR] [--quick] [...]  a paper's tables with our numbers
  *   accelbench report RUN_DIR [--out FILE.html]                     the run folder as one HTML page
+ *   accelbench predict RUN_DIR [--out DIR]                          cost models against the measured counters
+ *   accelbench calibrate [--out DIR] [--from RUN_DIR]                what each counter costs on this machine
  *
  * Exit status: 0 success, 1 verify found a real mismatch or run could not
  * write its results, 2 bad input, 128+N when run stopped on signal N. */
@@ -15,7 +17,9 @@
 #include <string.h>
 #include "../run/matrix.h"
 #include "../run/merge.h"
+#include "calibrate_cmd.h"
 #include "options.h"
+#include "predict_cmd.h"
 #include "render_cmd.h"
 #include "../reproduce/reproduce.h"
 #include "report_cmd.h"
@@ -39,6 +43,8 @@ static void usage(FILE *out)
     reproduce_list(out, "    ", 6);
     fprintf(out,
             "  report   RUN_DIR: one self-contained HTML page of a run folder (table, plots, heat maps, fits)\n"
+            "  predict  RUN_DIR: each structure's cost model against its measured counters (rank correlation, error)\n"
+            "  calibrate  what a box test, a primitive test and a step of each structure cost on this machine\n"
             "  scene    info SCENE (counts, bounds, view, hash) | export SCENE --nff FILE\n"
             "  version  the build's git revision\n"
             "  help     this text (also --help, -h)\n"
@@ -169,6 +175,8 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "reproduce")) return reproduce_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "merge")) return merge_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "report")) return report_main(argc - 1, argv + 1);
+    if (!strcmp(cmd, "predict")) return predict_main(argc - 1, argv + 1);
+    if (!strcmp(cmd, "calibrate")) return calibrate_main(argc - 1, argv + 1);
     int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? verify_main
                                                             : !strcmp(cmd, "render") ? render_main : NULL;
     if (!run) {

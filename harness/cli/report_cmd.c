@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "../run/run_outputs.h"
+#include "cli_args.h"
 
 static void report_usage(FILE *out)
 {
@@ -47,19 +48,10 @@ int report_main(int argc, char **argv)
             break;
         case 'q': quiet = true; break;
         case 'h': report_usage(stdout); return 0;
-        default:
-            fprintf(stderr, "accelbench report: unknown or incomplete option '%s' (see accelbench report --help)\n",
-                    argv[optind - 1]);
-            return 2;
+        default: return cli_bad_option("report", argv[optind - 1]);
         }
     }
-    if (optind >= argc) {
-        fprintf(stderr, "accelbench report: no run folder given (accelbench report RUN_DIR; see --help)\n");
-        return 2;
-    }
-    if (optind + 1 < argc) {
-        fprintf(stderr, "accelbench report: unexpected argument '%s' (one run folder; see --help)\n", argv[optind + 1]);
-        return 2;
-    }
-    return report_write(argv[optind], out, pictures, quiet);
+    const char *dir = cli_one_run_folder("report", argc, argv);
+    if (!dir) return 2;
+    return report_write(dir, out, pictures, quiet);
 }

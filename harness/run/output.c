@@ -103,6 +103,29 @@ int spawn_wait(char *const argv[])
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
+bool path_is_dir(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+int run_folder_csv(const char *cmd, const char *dir, char *csv, size_t csvlen)
+{
+    if (!path_is_dir(dir)) {
+        fprintf(stderr, "accelbench %s: %s: no such folder\n", cmd, term_text(dir));
+        return 2;
+    }
+    if ((size_t)snprintf(csv, csvlen, "%s/matrix.csv", dir) >= csvlen) {
+        fprintf(stderr, "accelbench %s: %.60s...: a path longer than %zu bytes\n", cmd, term_text(dir), csvlen);
+        return 2;
+    }
+    if (access(csv, R_OK) != 0) {
+        fprintf(stderr, "accelbench %s: %s: %s (not a run folder?)\n", cmd, term_text(csv), strerror(errno));
+        return 2;
+    }
+    return 0;
+}
+
 const char *python_interpreter(void)
 {
     const char *env = getenv("ACCELBENCH_PYTHON");

@@ -28,6 +28,14 @@ int output_replaceable(const char *path, char *err, size_t errlen);
  * or 2 after printing a one-line error. */
 int output_folder(const char *given, const char *prefix, char *out, size_t outlen);
 
+/* Whether path names a folder (symlinks followed). */
+bool path_is_dir(const char *path);
+
+/* The matrix.csv of run folder dir, written to csv: 0, or 2 after printing
+ * one line "accelbench CMD: ..." (no such folder, a path too long, no
+ * readable matrix.csv). report, predict and calibrate --from ask it. */
+int run_folder_csv(const char *cmd, const char *dir, char *csv, size_t csvlen);
+
 /* Run argv[0] (a path, or a bare name looked up on PATH) with the arguments
  * argv (NULL-terminated) and wait for it: no shell, so paths may hold any
  * character. Returns its exit status, or -1 when it could not be started or

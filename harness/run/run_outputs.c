@@ -13,12 +13,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static bool is_dir(const char *path)
-{
-    struct stat st;
-    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
-}
-
 int report_write(const char *dir, const char *out_html, const char *pictures, bool quiet)
 {
     char csv[PATH_MAX], out[PATH_MAX], script[PATH_MAX], self[PATH_MAX];
@@ -27,15 +21,7 @@ int report_write(const char *dir, const char *out_html, const char *pictures, bo
                 sizeof out - sizeof "/report.html");
         return 2;
     }
-    if (!is_dir(dir)) {
-        fprintf(stderr, "accelbench report: %s: no such folder\n", dir);
-        return 2;
-    }
-    snprintf(csv, sizeof csv, "%s/matrix.csv", dir);
-    if (access(csv, R_OK) != 0) {
-        fprintf(stderr, "accelbench report: %s: %s (not a run folder?)\n", csv, strerror(errno));
-        return 2;
-    }
+    if (run_folder_csv("report", dir, csv, sizeof csv)) return 2;
     if (out_html) snprintf(out, sizeof out, "%s", out_html);
     else snprintf(out, sizeof out, "%s/report.html", dir);
     char why[PATH_MAX + 128];
@@ -49,7 +35,7 @@ int report_write(const char *dir, const char *out_html, const char *pictures, bo
     char *slash = strrchr(parent, '/');
     if (slash && slash != parent) {
         *slash = 0;
-        if (!is_dir(parent)) {
+        if (!path_is_dir(parent)) {
             fprintf(stderr, "accelbench report: --out %s: no such folder %s\n", out, parent);
             return 2;
         }

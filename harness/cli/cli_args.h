@@ -1,0 +1,15 @@
+/* cli_args.h: the argument checks the commands that take one run folder
+ * (report, predict) and their options share, with the same one-line
+ * messages. */
+#ifndef ACCELBENCH_CLI_ARGS_H
+#define ACCELBENCH_CLI_ARGS_H
+
+/* Print that `arg` is an unknown or incomplete option of `accelbench cmd`;
+ * returns 2 (bad input). */
+int cli_bad_option(const char *cmd, const char *arg);
+
+/* The one positional argument left after getopt (argv[optind]), or NULL
+ * after printing why: none given, or more than one. */
+const char *cli_one_run_folder(const char *cmd, int argc, char **argv);
+
+#endif
