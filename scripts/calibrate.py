@@ -1,0 +1,197 @@
+#!/usr/bin/python3
+"""From counters to time: what a box test, a primitive test and a traversal step cost on this machine.
+
+For each accelerator configuration of a run folder's matrix.csv, the trace
+time per ray of each cell (scene x workload) is fitted by least squares,
+with every cost kept at or above 0, as
+    ns per ray = fixed + box_ns * box tests + test_ns * primitive tests + step_ns * steps
+(the counters per ray the walks measured; a counter the structure does not
+count, or one the same in every cell, is left out of its fit and its cost
+blank: a constant counter cannot be told from the fixed cost). Written:
+  calibration.csv        one row per configuration: the machine (cpu, isa,
+                         threads), the costs in ns, the cells, R^2, the
+                         median and largest |relative error| of the fit, and
+                         the median |relative error| held out by scene (each
+                         scene's cells predicted from costs fitted without
+                         that scene): how well counters times costs explain
+                         time on a scene the fit has not seen;
+  calibration_cells.csv  per cell: measured and fitted ns per ray, the
+                         relative error, and the held-out prediction;
+  calibration.md         the same as tables.
+A configuration with fewer cells than costs + 1 is listed without a fit.
+Primitive tests are of the scene's mix of kinds: the CSV's counters do
+not split them by kind, so the cost of a test is the mix's. Exit status 2
+on bad input (one line naming it)."""
+import argparse
+import csv
+import io
+import os
+import statistics
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot as common  # noqa: E402
+
+PROG = "calibrate.py"
+TERMS = (("box_ns", "box_tests_per_ray"), ("test_ns", "tests_per_ray"), ("step_ns", "steps_per_ray"))
+REQUIRED = ("scene", "accel", "params", "workload", "threads", "rays", "trace_ms") + tuple(c for _, c in TERMS)
+num = common.num
+
+
+def nonneg_lstsq(X, y):
+    """Least squares with every coefficient >= 0 (Lawson and Hanson's active set, by elimination: fit,
+    drop the most negative coefficient's column, refit, until none is negative). Returns the coefficients."""
+    n = X.shape[1]
+    active = list(range(n))
+    while active:
+        coef, *_ = np.linalg.lstsq(X[:, active], y, rcond=None)
+        if (coef >= 0).all():
+            out = np.zeros(n)
+            out[active] = coef
+            return out
+        del active[int(np.argmin(coef))]
+    return np.zeros(n)
+
+
+def fit(cells, terms):
+    """cells: [(scene, workload, {column: value}, ns)]. Returns (coefficients [fixed] + terms, fitted ns list)."""
+    X = np.array([[1.0] + [c[2][col] for _, col in terms] for c in cells])
+    y = np.array([c[3] for c in cells])
+    coef = nonneg_lstsq(X, y)
+    return coef, list(X @ coef)
+
+
+def r_squared(y, yhat):
+    mean = statistics.fmean(y)
+    tot = sum((v - mean) ** 2 for v in y)
+    res = sum((a - b) ** 2 for a, b in zip(y, yhat))
+    return 1.0 - res / tot if tot > 0 else None
+
+
+def cells_of(rows):
+    """Per configuration, its cells with a time and every counter it counts."""
+    out = {}
+    for r in rows:
+        ns = None
+        t, n = num(r.get("trace_ms")), num(r.get("rays"))
+        if t is not None and n:
+            ns = t * 1e6 / n
+        vals = {col: num(r.get(col)) for _, col in TERMS}
+        if ns is None or ns <= 0 or all(v is None for v in vals.values()):
+            continue
+        out.setdefault(common.config_key(r), []).append((r["scene"], r["workload"], vals, ns))
+    return out
+
+
+def calibrate(rows):
+    """(per-configuration results, per-cell rows)."""
+    results, per_cell = [], []
+    for cfg, cells in cells_of(rows).items():
+        # the counters this structure counts, present in every cell; one the same in every cell (lightbuf's
+        # one cell read per query) cannot be told from the fixed cost and folds into it
+        terms = [(name, col) for name, col in TERMS
+                 if all(c[2][col] is not None for c in cells) and len({c[2][col] for c in cells}) > 1]
+        res = {"config": cfg, "cells": len(cells), "terms": [n for n, _ in terms]}
+        results.append(res)
+        if len(cells) < len(terms) + 2:
+            continue
+        coef, fitted = fit(cells, terms)
+        y = [c[3] for c in cells]
+        errs = [abs(f - m) / m for f, m in zip(fitted, y)]
+        res.update(fixed_ns=coef[0], r2=r_squared(y, fitted), median_err=statistics.median(errs), max_err=max(errs))
+        for (name, _), v in zip(terms, coef[1:]):
+            res[name] = v
+        # held out by scene: each scene's cells from the costs of the others
+        held = [None] * len(cells)
+        scenes = list(dict.fromkeys(c[0] for c in cells))
+        if len(scenes) >= 3:
+            for s in scenes:
+                train = [c for c in cells if c[0] != s]
+                if len(train) < len(terms) + 2:
+                    continue
+                cf, _ = fit(train, terms)
+                for i, c in enumerate(cells):
+                    if c[0] == s:
+                        held[i] = cf[0] + sum(cf[k + 1] * c[2][col] for k, (_, col) in enumerate(terms))
+            herr = [abs(h - m) / m for h, m in zip(held, y) if h is not None]
+            res["held_out_err"] = statistics.median(herr) if herr else None
+        for c, f, h in zip(cells, fitted, held):
+            per_cell.append({"config": cfg, "scene": c[0], "workload": c[1], "measured_ns": c[3], "fitted_ns": f,
+                             "rel_error": (f - c[3]) / c[3],
+                             "held_out_ns": h, "held_out_rel_error": None if h is None else (h - c[3]) / c[3]})
+    return results, per_cell
+
+
+def fmt(v, digits=3):
+    if v is None:
+        return ""
+    return f"{v:.{digits}g}" if isinstance(v, float) else str(v)
+
+
+def machine_of(rows):
+    return (", ".join(dict.fromkeys(r.get("cpu", "") for r in rows if r.get("cpu"))) or "?",
+            ", ".join(dict.fromkeys(r.get("threads", "") for r in rows)) or "?")
+
+
+def write_csv(path, header, records):
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(header)
+    for rec in records:
+        w.writerow([fmt(v, 9) if isinstance(v, float) else ("" if v is None else v) for v in rec])
+    common.write_text(path, buf.getvalue())
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("run", metavar="RUN_DIR", help="a run folder (its matrix.csv) or a matrix.csv")
+    ap.add_argument("--out", metavar="DIR", help="where to write calibration.{csv,md} (default: the run folder)")
+    ap.add_argument("--isa", default="", help="the SIMD instruction set the machine's kernels use (the key's second part)")
+    ap.add_argument("--accelbench", metavar="BIN", help="the binary whose `list accels` gives the labels' defaults")
+    ap.add_argument("--quiet", action="store_true", help="do not list the files written")
+    args = ap.parse_args(argv)
+    common.PROG = PROG
+    csv_path, rows, out, labels = common.run_folder_rows(args.run, args.out, REQUIRED, args.accelbench)
+    results, per_cell = calibrate(rows)
+    cpu, threads = machine_of(rows)
+    names = [n for n, _ in TERMS]
+    header = ["cpu", "isa", "threads", "configuration", "accel", "params", "cells", "fixed_ns"] + names + [
+        "r2", "median_abs_rel_error", "max_abs_rel_error", "held_out_median_abs_rel_error"]
+    recs = []
+    for r in results:
+        cfg = r["config"]
+        recs.append([cpu, args.isa, cfg[2], labels[cfg], cfg[0], cfg[1], r["cells"], r.get("fixed_ns")] +
+                    [r.get(n) if n in r["terms"] else None for n in names] +
+                    [r.get("r2"), r.get("median_err"), r.get("max_err"), r.get("held_out_err")])
+    written = []
+    path = os.path.join(out, "calibration.csv")
+    write_csv(path, header, recs)
+    written.append(path)
+    path = os.path.join(out, "calibration_cells.csv")
+    write_csv(path, ["configuration", "scene", "workload", "measured_ns", "fitted_ns", "rel_error", "held_out_ns",
+                     "held_out_rel_error"],
+              [[labels[c["config"]], c["scene"], c["workload"], c["measured_ns"], c["fitted_ns"], c["rel_error"],
+                c["held_out_ns"], c["held_out_rel_error"]] for c in per_cell])
+    written.append(path)
+    md = [f"# Calibration: what each counter costs on {cpu} ({args.isa or 'isa not stated'}, {threads} thread(s))\n",
+          f"From `{csv_path}`. ns per ray = fixed + box_ns x box tests + test_ns x primitive tests + step_ns x "
+          "steps, least squares with every cost >= 0, per configuration over its cells; held out: each scene's "
+          "cells predicted from the costs fitted on the other scenes.\n",
+          "| configuration | cells | fixed ns | box test ns | test ns | step ns | R^2 | median \\|rel. error\\| | "
+          "largest | held out |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r, rec in zip(results, recs):
+        md.append("| " + " | ".join([rec[3], str(rec[6])] + [fmt(v) for v in rec[7:11]] +
+                                    [fmt(v, 2) if v is not None else "" for v in rec[11:]]) + " |")
+    path = os.path.join(out, "calibration.md")
+    common.write_text(path, "\n".join(md) + "\n")
+    written.append(path)
+    if not args.quiet:
+        for p in written:
+            print(f"wrote {p}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
