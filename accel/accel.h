@@ -170,6 +170,11 @@ struct accel_ops {
      * terminated, or NULL): each gets a CSV column stat_NAME after the
      * shared ones, in registry order. */
     const char *const *stat_names;
+    /* The settings `accelbench tune` searches, in the instance grammar of
+     * --accels: "KEY=V|V|V" (one main parameter, the values to try, the
+     * default among them), or NULL: nothing to tune. Every value must pass
+     * its row (tests/test_params.c checks each). */
+    const char *tune;
 };
 
 /* The base of every accelerator object. */

@@ -873,4 +873,5 @@ const struct accel_ops accel_raycls = {
     .occluded_fast = rcls_occluded_fast,
     .variants = rcls_variants,
     .cost = {4, 8, ACCEL_COST_BUILD_EACH_PASS},
+    .tune = "maxcands=4|8|16|32|64", /* the longest candidate list a hypercube keeps */
 };

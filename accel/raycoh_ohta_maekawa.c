@@ -760,6 +760,7 @@ const struct accel_ops accel_raycoh = {
     .occluded_fast = rcoh_occluded_fast,
     .variants = rcoh_variants,
     .cost = {2, 4, 0},
+    .tune = "res=4|8|16|32", /* cells per cube face side */
 };
 
 /* ------------------------------------------------------------ test hooks */

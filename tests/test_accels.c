@@ -490,6 +490,35 @@ static void check_table(const struct accel_ops *ops, const scene_t *s)
         CHECK_MSG(params_set_list(&p, *v, err, sizeof err) == 0 && accel_check_params(ops, &p, err, sizeof err) == 0,
                   "%s: variant %s: %s", ops->name, *v, err);
     }
+    /* `accelbench tune`'s search: one known key, each value allowed by its
+     * row and by check(), the default among them. */
+    if (ops->tune) {
+        const char *eq = strchr(ops->tune, '=');
+        char key[64] = "";
+        CHECK_MSG(eq && eq - ops->tune < (long)sizeof key && !strchr(ops->tune, ','), "%s: tune %s: not KEY=V|V",
+                  ops->name, ops->tune);
+        if (eq && eq - ops->tune < (long)sizeof key) {
+            memcpy(key, ops->tune, (size_t)(eq - ops->tune));
+            const accel_param *row = ops->params;
+            while (row->name && strcmp(row->name, key)) row++;
+            CHECK_MSG(row->name != NULL, "%s: tune names no parameter %s", ops->name, key);
+            bool has_default = false;
+            int nvalues = 0;
+            for (const char *v = eq + 1; *v; nvalues++) {
+                size_t len = strcspn(v, "|");
+                char val[64];
+                snprintf(val, sizeof val, "%.*s", (int)len, v);
+                accel_params tp;
+                params_defaults(&tp, ops->params);
+                CHECK_MSG(params_set(&tp, key, val, err, sizeof err) == 0 && accel_check_params(ops, &tp, err, sizeof err) == 0,
+                          "%s: tune value %s=%s: %s", ops->name, key, val, err);
+                has_default |= row->name && !strcmp(val, row->default_value);
+                v += len + (v[len] == '|');
+            }
+            CHECK_MSG(nvalues >= 2 && has_default, "%s: tune %s: %d values, default %s among them: %s", ops->name,
+                      ops->tune, nvalues, row->name ? row->default_value : "?", has_default ? "yes" : "no");
+        }
+    }
     /* check() runs uncounted, so a key only check() reads is found unused */
     accel_params p;
     params_defaults(&p, ops->params);

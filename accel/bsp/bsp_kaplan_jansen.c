@@ -510,4 +510,5 @@ const struct accel_ops accel_bsp = {
     .variants = bsp_variants,
     .check = bsp_check,
     .cost = {2, 4, 0},
+    .tune = "maxdepth=auto|12|16|20|24|28", /* pbrt-v4's rule and fixed depths around it */
 };

@@ -490,4 +490,5 @@ const struct accel_ops accel_bvh = {
     .settle_params = champ_settle_params,
     .check = champ_check,
     .cost = {1, 1, 0},
+    .tune = "leafsize=1|2|4|8", /* the largest leaf the SAH may make */
 };

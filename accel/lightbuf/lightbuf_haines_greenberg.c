@@ -1062,4 +1062,5 @@ const struct accel_ops accel_lightbuf = {
     .occluded_fast = lb_occluded_fast,
     .variants = lb_variants,
     .cost = {2, 2, 0},
+    .tune = "res=8|16|32|64|128|auto", /* cells per cube face side, and the scene-sized rule */
 };

@@ -901,4 +901,5 @@ const struct accel_ops accel_octree = {
     .occluded_fast = octree_occluded_fast,
     .variants = octree_variants,
     .cost = {3, 4, 0},
+    .tune = "maxdepth=4|5|6|7|8|10", /* Havran's O84 depth and those around it */
 };

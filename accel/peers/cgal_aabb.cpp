@@ -384,4 +384,5 @@ extern "C" const struct accel_ops accel_cgal_aabb = {
     /* .check = */ NULL,
     /* .cost = */ {3, 2, 0},
     /* .stat_names = */ NULL,
+    /* .tune = */ NULL,
 };

@@ -448,4 +448,5 @@ const struct accel_ops accel_slabs_kk = {
     .occluded_fast = kk_occluded_fast,
     .variants = kk_variants,
     .cost = {2, 2, 0},
+    .tune = "maxleaf=1|2|4|8", /* Kay and Kajiya's one object per volume, and larger leaves */
 };

@@ -10,6 +10,7 @@
  *   accelbench report RUN_DIR [--out FILE.html]                     the run folder as one HTML page
  *   accelbench predict RUN_DIR [--out DIR]                          cost models against the measured counters
  *   accelbench calibrate [--out DIR] [--from RUN_DIR]                what each counter costs on this machine
+ *   accelbench tune --scenes L --workloads L [--accels L]             each structure at its best per scene
  *
  * Exit status: 0 success, 1 verify found a real mismatch or run could not
  * write its results, 2 bad input, 128+N when run stopped on signal N. */
@@ -24,6 +25,7 @@
 #include "../reproduce/reproduce.h"
 #include "report_cmd.h"
 #include "scene_cmd.h"
+#include "tune_cmd.h"
 #include "verify_cmd.h"
 #include "version.h"
 
@@ -45,6 +47,7 @@ static void usage(FILE *out)
             "  report   RUN_DIR: one self-contained HTML page of a run folder (table, plots, heat maps, fits)\n"
             "  predict  RUN_DIR: each structure's cost model against its measured counters (rank correlation, error)\n"
             "  calibrate  what a box test, a primitive test and a step of each structure cost on this machine\n"
+            "  tune     each structure's main parameter searched per scene and workload, default against tuned\n"
             "  scene    info SCENE (counts, bounds, view, hash) | export SCENE --nff FILE\n"
             "  version  the build's git revision\n"
             "  help     this text (also --help, -h)\n"
@@ -63,6 +66,7 @@ static void list_accels(void)
             printf("  %-14s flags:%s%s%s\n", "", a->flags & ACCEL_MUTATES ? " mutates-while-tracing(traced on 1 thread)" : "",
                    a->flags & ACCEL_SHADOW_ONLY ? " shadow-rays-only" : "",
                    a->flags & ACCEL_NO_COUNTERS ? " counters-not-observable" : "");
+        if (a->tune) printf("  %-14s tune: %s\n", "", a->tune);
         /* A default this machine settles to another value (bvh's isa=auto) says which: that is what the CSV
          * records, and what the plots and report take as the default. */
         accel_params settled;
@@ -177,6 +181,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "report")) return report_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "predict")) return predict_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "calibrate")) return calibrate_main(argc - 1, argv + 1);
+    if (!strcmp(cmd, "tune")) return tune_main(argc - 1, argv + 1);
     int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? verify_main
                                                             : !strcmp(cmd, "render") ? render_main : NULL;
     if (!run) {
