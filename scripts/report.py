@@ -809,6 +809,45 @@ def section_verify(rows, labels, defaults):
     return "\n".join(out)
 
 
+def section_models(run_dir):
+    """What `accelbench tune` and `accelbench predict` wrote into the folder, when they did: per structure the
+    gain of its tuned setting over its default, and how well its cost model ranks its measured work."""
+    import csv as _csv
+    import tune
+    out = []
+    path = os.path.join(run_dir, "tuning.csv")
+    if os.path.isfile(path):
+        with open(path, newline="", encoding="utf-8", errors="replace") as f:
+            recs = [dict(r, gain=common.num(r.get("gain"))) for r in _csv.DictReader(f)]
+        out.append("<h3>Tuning: each structure's default against its best setting</h3>"
+                   '<p class="note">From tuning.csv (accelbench tune): the gain is the default\'s ratio to Embree over '
+                   "the tuned setting's, on the measured rays; the setting was chosen on other, training rays.</p>"
+                   '<table><thead><tr><th class="t">structure</th><th class="t">parameter (default)</th><th>cells</th>'
+                   '<th>geometric-mean gain</th><th>largest</th><th class="t">chosen (times)</th></tr></thead><tbody>')
+        for p in tune.per_structure(recs):
+            out.append(f'<tr><td class="t">{esc(p["accel"])}</td><td class="t">{esc(p["key"])} ({esc(p["default"])})'
+                       f'</td><td>{p["cells"]}</td><td>{tune.fmt(p["gm_gain"])}</td><td>{tune.fmt(p["max_gain"])}</td>'
+                       f'<td class="t">{esc(p["values"])}</td></tr>')
+        out.append("</tbody></table>")
+    path = os.path.join(run_dir, "prediction.csv")
+    if os.path.isfile(path):
+        with open(path, newline="", encoding="utf-8", errors="replace") as f:
+            rows = [r for r in _csv.DictReader(f) if r.get("workload") == "all"]
+        out.append("<h3>Cost models: predicted against measured work, over all workloads</h3>"
+                   '<p class="note">From prediction.csv (accelbench predict): Spearman\'s rank correlation across the '
+                   "cells and the median of measured over predicted; per workload in prediction.md.</p>"
+                   '<table><thead><tr><th class="t">configuration</th><th class="t">counter</th><th>cells</th>'
+                   "<th>rank corr.</th><th>measured / predicted</th></tr></thead><tbody>")
+        for r in rows:
+            out.append(f'<tr><td class="t">{esc(r["configuration"])}</td><td class="t">{esc(r["counter"])}</td>'
+                       f'<td>{esc(r["cells"])}</td><td>{esc(r["rank_corr"])}</td>'
+                       f'<td>{esc(r["median_measured_over_predicted"])}</td></tr>')
+        out.append("</tbody></table>")
+    if not out:
+        return ""
+    return '<section id="models"><h2>Tuning and cost models</h2>' + "\n".join(out) + "</section>"
+
+
 def section_reproduce(run_dir):
     files = []
     for pat in ("*_tables.md", "summary.md", "report.md", "*/*_tables.md", "*/summary.md", "*/report.md"):
@@ -892,6 +931,7 @@ def main(argv=None):
             parts.append(section_pictures(rows, labels, binary, defaults, args.pictures, tmp, args.quiet))
             parts.append(section_scaling(rows, labels))
             parts.append(section_verify(rows, labels, defaults))
+        parts.append(section_models(args.run_dir))
         parts.append(section_reproduce(args.run_dir))
         if rows:
             parts.append(section_table(rows, labels))

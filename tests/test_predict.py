@@ -19,7 +19,8 @@ Then `accelbench predict` on a small real run (grid, bsp, bvh, lightbuf on
 two SPD scenes): exit 0, the four files, a row for every counter each
 structure predicts; and bad input (no folder, a folder with no
 matrix.csv, --out to a missing folder, an unknown option) exits 2 with one
-line. Prints "N passed, N failed"; exits 1 on a failure."""
+line; and the run folder's report, with prediction.csv written into it,
+shows the cost-model table. Prints "N passed, N failed"; exits 1 on a failure."""
 import csv
 import math
 import os
@@ -133,6 +134,12 @@ for accel, counters in (("grid", ("tests", "box_tests", "steps")), ("bsp", ("tes
     for c in counters:
         r = find(acc, configuration=accel, counter=c, workload="all")
         check(r is not None and int(r["cells"]) >= 2, f"{accel} {c}: {r}")
+
+# the report of a folder that holds prediction.csv shows the models section
+p = subprocess.run([ACCELBENCH, "predict", run, "--quiet", "--no-plot"], capture_output=True, text=True)
+p = subprocess.run([ACCELBENCH, "report", run, "--pictures", "off", "--quiet"], capture_output=True, text=True)
+page = open(os.path.join(run, "report.html"), encoding="utf-8").read() if p.returncode == 0 else ""
+check("<h3>Cost models" in page and '<td class="t">bvh</td>' in page, f"the report's cost-model table: exit {p.returncode}")
 
 for argv, what in (([os.path.join(tmp, "nope")], "no folder"), ([out], "no matrix.csv"),
                    ([run, "--out", os.path.join(tmp, "nope")], "--out missing"), ([run, "--bogus"], "unknown option")):

@@ -1,0 +1,256 @@
+#!/usr/bin/python3
+"""Each structure at its best for the scene: `accelbench tune`'s search, choice and measurement.
+
+For every accelerator of --accels that declares what to search (`accelbench
+list accels`, its "tune:" line: one parameter and the values to try, the
+default among them), per scene and workload:
+  1. training: every value is traced on training rays, a quarter as many
+     as the measured ones and other rays (half the image resolution per
+     axis, so other pixel centres, and seed + 1 for the bounce and random
+     rays), with the run's timed repeats, paired with Embree's
+     (OUT/training/, an ordinary run folder: an interrupted search
+     resumes);
+  2. choice: the value with the lowest paired ratio to Embree on the
+     training rays (ties to the default);
+  3. measurement: the default and the chosen setting traced on the
+     measured rays with the run's repeats, paired with Embree's, into
+     OUT/matrix.csv (one `accelbench run` per scene and workload, appending).
+Accelerators without a search, and instances given with parameters
+(NAME[k=v]), are measured as given. Written to OUT: matrix.csv (every
+measured cell), tuning.csv (per scene, workload and structure: the default
+and the chosen setting, both ratios to Embree, the gain default / tuned,
+the training cells and the search's own time, its builds and traces) and
+tuning.md (those, and per structure the geometric-mean gain: what its
+default leaves on the table), and the run folder's plots. Every child is
+started with an argument vector, never a shell. Exit status: the first
+failing run's (2 on bad input), else 0."""
+import argparse
+import csv
+import math
+import os
+import re
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot as common  # noqa: E402
+
+PROG = "tune.py"
+num = common.num
+
+
+def parse_tune_specs(text):
+    """{accel: (key, [values])} from the text of `accelbench list accels` (its "tune: KEY=V|V" lines)."""
+    specs, name = {}, None
+    for line in text.splitlines():
+        m = re.match(r"^  ([a-z][\w-]*) ", line)
+        if m:
+            name = m.group(1)
+            continue
+        m = re.match(r"^ {17}tune: (\w+)=(\S+)$", line)
+        if m and name:
+            specs[name] = (m.group(1), m.group(2).split("|"))
+    return specs
+
+
+def split_list(text):
+    """'grid,bsp[a=1,b=2|3]' -> ['grid', 'bsp[a=1,b=2|3]']: commas inside brackets stay."""
+    out, depth, cur = [], 0, ""
+    for ch in text:
+        if ch == "," and depth == 0:
+            out.append(cur)
+            cur = ""
+            continue
+        depth += ch == "["
+        depth -= ch == "]"
+        cur += ch
+    out.append(cur)
+    return [x for x in out if x]
+
+
+def half_res(res):
+    w, h = (int(x) for x in res.lower().split("x"))
+    return f"{max(8, w // 2)}x{max(8, h // 2)}"
+
+
+def run(accelbench, args, quiet):
+    """accelbench with args (a list): its exit status. Its output passes through; quiet, it is held back, and
+    on a failure the last lines of its errors are printed."""
+    if not quiet:
+        return subprocess.run([accelbench] + args).returncode
+    p = subprocess.run([accelbench] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                       errors="replace")
+    if p.returncode != 0:
+        sys.stderr.write("".join(p.stderr.splitlines(True)[-5:]))
+    return p.returncode
+
+
+def rows_of(path):
+    if not os.path.isfile(path):
+        return []
+    return common.dedup_rows(common.load_rows(path, ("scene", "accel", "params", "workload", "ratio_vs_embree",
+                                                     "trace_ms", "build_ms")), path)
+
+
+def param_of(params, key):
+    for piece in common.split_params(params):
+        k, _, v = piece.partition("=")
+        if k == key:
+            return v
+    return None
+
+
+def choose(training, specs, defaults):
+    """{(scene, workload, accel): (chosen value, default value, cells, search ms)} from the training rows."""
+    best = {}
+    for r in training:
+        a = r["accel"]
+        if a not in specs:
+            continue
+        key = specs[a][0]
+        v = param_of(r["params"], key)
+        ratio = num(r["ratio_vs_embree"])
+        if v is None or ratio is None:
+            continue
+        cell = (r["scene"], r["workload"], a)
+        b = best.setdefault(cell, {"value": None, "ratio": math.inf, "cells": 0, "ms": 0.0})
+        b["cells"] += 1
+        b["ms"] += (num(r["build_ms"]) or 0.0) + (num(r["trace_ms"]) or 0.0)
+        is_default = v == defaults.get(a, {}).get(key)
+        if ratio < b["ratio"] or (ratio == b["ratio"] and is_default):
+            b["value"], b["ratio"] = v, ratio
+    return {c: (b["value"], defaults.get(c[2], {}).get(specs[c[2]][0]), b["cells"], b["ms"]) for c, b in best.items()
+            if b["value"] is not None}
+
+
+def geomean(xs):
+    xs = [x for x in xs if x and x > 0]
+    return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else None
+
+
+def per_structure(recs):
+    """Per structure of tuning.csv's rows (dicts; gain a number or None): its parameter, default, cells, the
+    geometric-mean and largest gain, and the chosen values with how often each was chosen."""
+    out = []
+    for a in dict.fromkeys(r["accel"] for r in recs):
+        mine = [r for r in recs if r["accel"] == a]
+        gains = [r["gain"] for r in mine if r["gain"]]
+        values = {}
+        for r in mine:
+            values[r["tuned"]] = values.get(r["tuned"], 0) + 1
+        out.append({"accel": a, "key": mine[0]["key"], "default": mine[0]["default"], "cells": len(mine),
+                    "gm_gain": geomean(gains), "max_gain": max(gains) if gains else None,
+                    "values": ", ".join(f"{v} ({n})" for v, n in sorted(values.items(), key=lambda kv: -kv[1]))})
+    return out
+
+
+def fmt(v, digits=3):
+    return "" if v is None else (f"{v:.{digits}g}" if isinstance(v, float) else str(v))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--accelbench", required=True, help="the accelbench binary to run")
+    ap.add_argument("--scenes", required=True)
+    ap.add_argument("--accels", default="")
+    ap.add_argument("--workloads", required=True)
+    ap.add_argument("--res", required=True)
+    ap.add_argument("--repeat", required=True)
+    ap.add_argument("--threads", default="")
+    ap.add_argument("--seed", default="1")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--quiet", action="store_true")
+    args = ap.parse_args(argv)
+    common.PROG = PROG
+    listing = subprocess.run([args.accelbench, "list", "accels"], capture_output=True, text=True).stdout
+    specs, defaults = parse_tune_specs(listing), common.parse_accel_defaults(listing)
+    accels = split_list(args.accels) if args.accels else list(specs)
+    tuned = [a for a in accels if a in specs]
+    threads = ["--threads", args.threads] if args.threads else []
+    common_args = ["--no-plots"] + threads
+    # 1. training
+    training_dir = os.path.join(args.out, "training")
+    if tuned:
+        key_of = {a: specs[a][0] for a in tuned}
+        sweep = ",".join(f"{a}[{key_of[a]}={'|'.join(specs[a][1])}]" for a in tuned)
+        rc = run(args.accelbench, ["run", "--scenes", args.scenes, "--accels", sweep, "--workloads", args.workloads,
+                                   "--res", half_res(args.res), "--seed", str(int(args.seed) + 1), "--repeat", args.repeat,
+                                   "--out", training_dir] + common_args, args.quiet)
+        if rc != 0:
+            print(f"{PROG}: the training run failed (exit {rc}); run the same command again to resume it",
+                  file=sys.stderr)
+            return rc
+    chosen = choose(rows_of(os.path.join(training_dir, "matrix.csv")), specs, defaults)  # 2. choice
+    # 3. measurement: what is measured as given, in one run over every scene and workload; then per scene and
+    # workload of the training run, each searched structure at its default and at its chosen value
+    training = rows_of(os.path.join(training_dir, "matrix.csv"))
+    plans = []
+    untuned = [a for a in accels if a not in specs]
+    if untuned:
+        plans.append((args.scenes, args.workloads, untuned))
+    for scene, workload in dict.fromkeys((r["scene"], r["workload"]) for r in training):
+        inst = []
+        for a in tuned:
+            c = chosen.get((scene, workload, a))
+            if c:
+                inst.append(a)
+                if c[0] != c[1]:
+                    inst.append(f"{a}[{specs[a][0]}={c[0]}]")
+        if inst:
+            plans.append((scene, workload, inst))
+    for scene, workload, inst in plans:
+        rc = run(args.accelbench, ["run", "--scenes", scene, "--accels", ",".join(inst), "--workloads", workload,
+                                   "--res", args.res, "--seed", args.seed, "--repeat", args.repeat, "--out", args.out]
+                 + common_args, args.quiet)
+        if rc != 0:
+            print(f"{PROG}: the measuring run of {scene} / {workload} failed (exit {rc}); run the same command "
+                  "again to resume", file=sys.stderr)
+            return rc
+    # 4. the table
+    measured = rows_of(os.path.join(args.out, "matrix.csv"))
+    recs = []
+    for (scene, workload, a), (value, default, cells, ms) in sorted(chosen.items()):
+        key = specs[a][0]
+        mine = [r for r in measured if r["scene"] == scene and r["workload"] == workload and r["accel"] == a]
+        dflt = [r for r in mine if param_of(r["params"], key) == default]
+        best = [r for r in mine if param_of(r["params"], key) == value]
+        rd = num(dflt[-1]["ratio_vs_embree"]) if dflt else None
+        rt = num(best[-1]["ratio_vs_embree"]) if best else None
+        recs.append({"scene": scene, "workload": workload, "accel": a, "key": key, "default": default, "tuned": value,
+                     "default_ratio": rd, "tuned_ratio": rt, "gain": rd / rt if rd and rt else None,
+                     "training_cells": cells, "search_ms": ms})
+    cols = ["scene", "workload", "accel", "key", "default", "tuned", "default_ratio", "tuned_ratio", "gain",
+            "training_cells", "search_ms"]
+    import io
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(cols)
+    for r in recs:
+        w.writerow([fmt(r[c], 6) if isinstance(r[c], float) else ("" if r[c] is None else r[c]) for c in cols])
+    common.write_text(os.path.join(args.out, "tuning.csv"), buf.getvalue())
+    md = ["# Tuning: each structure at its best for the scene\n",
+          f"Training on a quarter as many other rays (half the resolution, seed + 1); measured at "
+          f"{args.res} with {args.repeat} paired repeats. Gain: the default's ratio to Embree over the tuned "
+          "setting's, on the measured rays.\n",
+          "## Per structure\n", "| structure | parameter | cells | geometric-mean gain | largest | tuned value |",
+          "|---|---|---:|---:|---:|---|"]
+    for p in per_structure(recs):
+        md.append(f"| {p['accel']} | {p['key']} (default {p['default']}) | {p['cells']} | {fmt(p['gm_gain'])} | "
+                  f"{fmt(p['max_gain'])} | {p['values']} |")
+    md += ["", "## Per cell\n", "| scene | workload | structure | default | tuned | default ratio | tuned ratio | gain "
+           "| search ms |", "|---|---|---|---|---|---:|---:|---:|---:|"]
+    for r in recs:
+        md.append(f"| {r['scene']} | {r['workload']} | {r['accel']} | {r['key']}={r['default']} | "
+                  f"{r['key']}={r['tuned']} | {fmt(r['default_ratio'])} | {fmt(r['tuned_ratio'])} | "
+                  f"{fmt(r['gain'])} | {fmt(r['search_ms'], 4)} |")
+    common.write_text(os.path.join(args.out, "tuning.md"), "\n".join(md) + "\n")
+    if measured:
+        subprocess.run([sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "plot.py"),
+                        os.path.join(args.out, "matrix.csv"), "--quiet"])
+    if not args.quiet:
+        print(f"wrote {os.path.join(args.out, 'tuning.csv')}\nwrote {os.path.join(args.out, 'tuning.md')}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
