@@ -123,11 +123,6 @@ def choose(training, specs, defaults):
             if b["value"] is not None}
 
 
-def geomean(xs):
-    xs = [x for x in xs if x and x > 0]
-    return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else None
-
-
 def per_structure(recs):
     """Per structure of tuning.csv's rows (dicts; gain a number or None): its parameter, default, cells, the
     geometric-mean and largest gain, and the chosen values with how often each was chosen."""
@@ -139,7 +134,7 @@ def per_structure(recs):
         for r in mine:
             values[r["tuned"]] = values.get(r["tuned"], 0) + 1
         out.append({"accel": a, "key": mine[0]["key"], "default": mine[0]["default"], "cells": len(mine),
-                    "gm_gain": geomean(gains), "max_gain": max(gains) if gains else None,
+                    "gm_gain": common.geomean(gains), "max_gain": max(gains) if gains else None,
                     "values": ", ".join(f"{v} ({n})" for v, n in sorted(values.items(), key=lambda kv: -kv[1]))})
     return out
 
