@@ -51,6 +51,7 @@ static inline float f_max_keep(float a, float b) { return b > a ? b : a; }
 static inline vec3 v3_min(vec3 a, vec3 b) { return v3(f_min(a.x, b.x), f_min(a.y, b.y), f_min(a.z, b.z)); }
 static inline vec3 v3_max(vec3 a, vec3 b) { return v3(f_max(a.x, b.x), f_max(a.y, b.y), f_max(a.z, b.z)); }
 static inline float v3_get(vec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+static inline void v3_set(vec3 *a, int axis, float x) { *(axis == 0 ? &a->x : axis == 1 ? &a->y : &a->z) = x; }
 /* The largest |coordinate| (f_max_keep). */
 static inline float v3_max_abs(vec3 v) { return f_max_keep(fabsf(v.x), f_max_keep(fabsf(v.y), fabsf(v.z))); }
 static inline bool v3_finite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }

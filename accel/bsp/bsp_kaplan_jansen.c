@@ -445,7 +445,7 @@ static int bsp_stats(const accel *a, accel_stat *out, int max)
      * (every node of every descent for sequential), the candidates tested. */
     line_prediction pr;
     double nodes_met;
-    kd_predict(k, t->p->count, t->mailbox, &pr, &nodes_met);
+    const bool predicted = kd_predict(k, t->p->count, t->mailbox, &pr, &nodes_met) == 0;
     accel_stat all[] = {
         {"nodes", (double)k->ninterior},
         {"leaves", (double)k->nleaves},
@@ -457,7 +457,7 @@ static int bsp_stats(const accel *a, accel_stat *out, int max)
         {"predicted_tests_per_ray", pr.tests},
         {"predicted_box_tests_per_ray", 1.0},
     };
-    int n = (int)(sizeof all / sizeof all[0]);
+    int n = (int)(sizeof all / sizeof all[0]) - (predicted ? 0 : 3); /* the model's rows, when it had memory */
     if (n > max) n = max;
     for (int i = 0; i < n; i++) out[i] = all[i];
     return n;

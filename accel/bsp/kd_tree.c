@@ -237,17 +237,11 @@ int kd_build(kd_tree *t, const prims_t *p, const kd_config *cfg, char *err, size
     return 0;
 }
 
-static void set_axis(vec3 *v, int a, float x) { *(a == 0 ? &v->x : a == 1 ? &v->y : &v->z) = x; }
-
 int kd_predict(const kd_tree *t, uint32_t nprims, bool mailbox, line_prediction *out, double *nodes_met)
 {
     line_model m;
+    if (line_model_init(&m, t->box, nprims, mailbox)) return -1;
     *nodes_met = 0.0;
-    if (line_model_init(&m, t->box, nprims, mailbox)) {
-        *out = (line_prediction){-1.0, -1.0, -1.0, -1.0, -1.0};
-        *nodes_met = -1.0;
-        return -1;
-    }
     /* Depth first: the below child is the next node, so a stack of the
      * above children's cells is all the walk keeps. */
     struct { uint32_t node; int depth; box3 cell; } stack[KD_MAX_DEPTH + 2];
@@ -266,8 +260,8 @@ int kd_predict(const kd_tree *t, uint32_t nprims, bool mailbox, line_prediction 
             *nodes_met += line_model_prob(&m, e.cell);
             const int a = kd_axis(nd);
             box3 below = e.cell, above = e.cell;
-            set_axis(&below.hi, a, nd->split);
-            set_axis(&above.lo, a, nd->split);
+            v3_set(&below.hi, a, nd->split);
+            v3_set(&above.lo, a, nd->split);
             stack[sp++] = (typeof(stack[0])){kd_above(nd), e.depth + 1, above};
             e = (typeof(stack[0])){e.node + 1, e.depth + 1, below};
         }

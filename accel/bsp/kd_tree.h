@@ -121,8 +121,8 @@ size_t kd_memory(const kd_tree *t);
  * leaves entered (.cells), candidates tested (.tests, counted once per
  * primitive with mailbox), root-to-leaf descents (.descents: the nodes a
  * sequential walk visits); *nodes_met gets the interior and leaf nodes
- * whose cells a line meets (what a recursive walk visits). Returns -1 (and
- * a prediction of -1s) when the mailbox's scratch cannot be allocated. */
+ * whose cells a line meets (what a recursive walk visits). Returns -1 when
+ * the mailbox's scratch cannot be allocated (nothing written then). */
 int kd_predict(const kd_tree *t, uint32_t nprims, bool mailbox, line_prediction *out, double *nodes_met);
 
 /* The primitive list of a leaf: n ids at the returned pointer. */

@@ -998,6 +998,7 @@ static int lb_stats(const accel *a, accel_stat *out, int max)
         {"predicted_tests_per_ray", lb_predict_tests(t)},
     };
     int n = (int)(sizeof s / sizeof s[0]);
+    if (s[n - 1].value < 0.0) n--; /* the model had no memory: no predicted tests */
     if (n > max) n = max;
     memcpy(out, s, (size_t)n * sizeof *s);
     return n;

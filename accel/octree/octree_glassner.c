@@ -93,7 +93,6 @@ typedef struct {
     uint64_t step_cap;  /* a walk longer than this falls back */
     double probes_avg, probes_miss_avg;
     uint32_t probes_max;
-    line_prediction predicted; /* the random-line model over the voxels made */
 } octree_t;
 
 struct accel_ctx {
@@ -103,7 +102,6 @@ struct accel_ctx {
 
 static inline uint64_t name_lo(oct_name n) { return (uint64_t)n; }
 static inline uint32_t name_hi(oct_name n) { return (uint32_t)(n >> 64); }
-static inline void set3(vec3 *v, int a, float x) { *(a == 0 ? &v->x : a == 1 ? &v->y : &v->z) = x; }
 static inline box3 box_pad(box3 b, float e)
 {
     b.lo = v3_sub(b.lo, v3(e, e, e));
@@ -147,7 +145,6 @@ typedef struct {
     uint64_t memcap;    /* MiB */
     uint32_t nprims;
     prim_classes classes; /* coincident primitives, counted once against maxprims */
-    line_model model;     /* every voxel made, stored or empty, with its list */
     char *err;
     size_t errlen;
     bool failed;
@@ -231,8 +228,8 @@ static bool candidate(const builder *B, uint32_t id, box3 v)
         for (int side = 0; side < 2; side++) {
             box3 f = v;
             float x = v3_get(side ? v.hi : v.lo, a);
-            set3(&f.lo, a, x);
-            set3(&f.hi, a, x);
+            v3_set(&f.lo, a, x);
+            v3_set(&f.hi, a, x);
             if (prim_overlaps_box(p, id, f)) return true;
         }
     /* ...then the contained point: no face is crossed, so the connected
@@ -242,11 +239,8 @@ static bool candidate(const builder *B, uint32_t id, box3 v)
            b.hi.z <= v.hi.z;
 }
 
-/* A voxel made, stored (its list) or empty (no list). */
-static void note_voxel(builder *B, box3 b, int depth, const uint32_t *cand, uint32_t n)
+static void note_voxel(octree_t *o, box3 b, int depth)
 {
-    octree_t *o = B->o;
-    line_model_cell(&B->model, b, depth, cand, n);
     float e = min_edge(b);
     if (e < o->minlen) o->minlen = e;
     if (depth > o->depth) o->depth = depth;
@@ -300,7 +294,7 @@ static void build_node(builder *B, oct_name name, int depth, box3 box, const uin
                 uint32_t nc = off[c + 1] - off[c];
                 if (!nc) {
                     o->nempty++; /* Glassner: an empty voxel has no node */
-                    note_voxel(B, cb, depth + 1, NULL, 0);
+                    note_voxel(o, cb, depth + 1);
                     continue;
                 }
                 build_node(B, name * 10 + 1 + c, depth + 1, cb, buf + off[c], nc);
@@ -314,7 +308,7 @@ static void build_node(builder *B, oct_name name, int depth, box3 box, const uin
         }
     }
     /* A leaf. */
-    note_voxel(B, box, depth, cand, n);
+    note_voxel(o, box, depth);
     if (!n) {
         o->nempty++; /* only the root of an empty scene gets here */
         return;
@@ -403,7 +397,7 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
     float base = maxe > 0 ? maxe : fmaxf(1.0f, fmaxf(v3_max_abs(b.lo), v3_max_abs(b.hi)));
     for (int a = 0; a < 3; a++) {
         float lo = v3_get(b.lo, a), hi = v3_get(b.hi, a);
-        if (hi - lo <= 1e-7f * base) set3(&b.lo, a, lo - 1e-3f * base), set3(&b.hi, a, hi + 1e-3f * base);
+        if (hi - lo <= 1e-7f * base) v3_set(&b.lo, a, lo - 1e-3f * base), v3_set(&b.hi, a, hi + 1e-3f * base);
     }
     o->pad = 2e-6f * fmaxf(v3_max_abs(b.lo), v3_max_abs(b.hi)) + 1e-6f * box_diagonal(b);
     o->root = box_pad(b, o->pad);
@@ -417,12 +411,6 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
         goto fail;
     }
     B.scratch += (uint64_t)p->count * sizeof(uint32_t) * (B.classes.rep != NULL);
-    if (over_cap(&B, (uint64_t)p->count * (sizeof(box3) + sizeof(double)) * mailbox)) goto fail;
-    if (line_model_init(&B.model, o->root, p->count, mailbox)) {
-        fail_oom(&B, "the cost model's per-primitive boxes");
-        goto fail;
-    }
-    B.scratch += (uint64_t)p->count * (sizeof(box3) + sizeof(double)) * mailbox;
 
     /* The root's candidates: every primitive touching the root box (all of
      * them but those whose bounds are empty). */
@@ -442,8 +430,6 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
     build_node(&B, 1, 0, o->root, all, nall);
     free(all);
     if (B.failed) goto fail;
-    o->predicted = line_model_result(&B.model);
-    line_model_free(&B.model);
 
     /* The name table: a prime number of buckets, load at most 1. */
     uint32_t size = hash_mod_prime_at_least(B.nentries);
@@ -464,7 +450,6 @@ static accel *octree_build(const scene_t *scene, const accel_params *params, cha
 fail:
     free(B.entries);
     prim_classes_free(&B.classes);
-    line_model_free(&B.model);
     octree_destroy(&o->base);
     return NULL;
 }
@@ -769,9 +754,33 @@ static size_t octree_memory(const accel *a)
 
 /* ------------------------------------------------------- version 2 */
 
+/* Every voxel of the tree into the model, from node `name` (its bucket
+ * home, its box, its depth) down: an interior node's eight octants, a
+ * stored leaf with its list, an absent name an empty voxel. */
+static void predict_node(const octree_t *o, line_model *m, oct_name name, uint32_t home, box3 box, int depth)
+{
+    const uint32_t *v = o->table.size ? hash_mod_find(&o->table, name_lo(name), name_hi(name), home, NULL) : NULL;
+    if (v && *v == OCT_INTERIOR) {
+        for (unsigned c = 0; c < 8; c++)
+            predict_node(o, m, name * 10 + 1 + c, hash_mod_extend(&o->table, home, 10, 1 + c), child_box(box, c),
+                         depth + 1);
+        return;
+    }
+    const oct_leaf *L = v ? &o->leaves[*v] : NULL;
+    line_model_cell(m, box, depth, L ? o->ids + L->first : NULL, L ? L->count : 0);
+}
+
 static int octree_stats(const accel *a, accel_stat *out, int max)
 {
     const octree_t *o = (const octree_t *)a;
+    /* The random-line model (common/line_model.h) over the finished tree. */
+    line_prediction pr = {-1.0, -1.0, -1.0, -1.0, -1.0};
+    line_model m;
+    if (line_model_init(&m, o->root, o->p->count, o->mailbox) == 0) {
+        predict_node(o, &m, 1, o->root_home, o->root, 0);
+        pr = line_model_result(&m);
+        line_model_free(&m);
+    }
     uint32_t count = o->p->count;
     accel_stat all[] = {
         {"nodes", (double)o->ninterior},
@@ -787,12 +796,13 @@ static int octree_stats(const accel *a, accel_stat *out, int max)
         {"hash_probes_miss_avg", o->probes_miss_avg},
         /* the random-line model (common/line_model.h); box tests: the root
          * clip and, walk=glassner, a lookup per level of every descent */
-        {"predicted_steps_per_ray", o->predicted.cells},
-        {"predicted_tests_per_ray", o->predicted.tests},
-        {"predicted_box_tests_per_ray", 1.0 + o->predicted.descents},
+        {"predicted_steps_per_ray", pr.cells},
+        {"predicted_tests_per_ray", pr.tests},
+        {"predicted_box_tests_per_ray", 1.0 + pr.descents},
     };
     int n = 0;
-    size_t rows = sizeof all / sizeof all[0] - (o->walk != WALK_GLASSNER); /* fujimoto: no box-test model */
+    /* fujimoto: no box-test model; out of memory for the model: none of it */
+    size_t rows = sizeof all / sizeof all[0] - (pr.cells < 0.0 ? 3 : o->walk != WALK_GLASSNER);
     for (size_t k = 0; k < rows && n < max; k++)
         out[n++] = all[k];
     return n;
