@@ -20,6 +20,7 @@
 #include "../../accel/params.h"
 #include "../run/output.h"
 #include "cli_args.h"
+#include "options.h"
 
 /* The calibration matrix: small SPD scenes of every kind of primitive,
  * every accelerator whose work is observable, at its defaults, four
@@ -83,14 +84,8 @@ int calibrate_main(int argc, char **argv)
         case 'f': from = optarg; break;
         case 'k': quick = true; break;
         case 't': {
-            char *end;
-            errno = 0;
-            long n = strtol(optarg, &end, 10);
-            if (errno || *end || end == optarg || n < 1 || n > 4096) {
-                fprintf(stderr, "accelbench calibrate: --threads %s: expected an integer in 1..4096\n",
-                        term_text(optarg));
-                return 2;
-            }
+            long n;
+            if (options_parse_long("threads", optarg, 1, 1024, &n)) return 2; /* run's range */
             threads = optarg;
             break;
         }
@@ -99,10 +94,7 @@ int calibrate_main(int argc, char **argv)
         default: return cli_bad_option("calibrate", argv[optind - 1]);
         }
     }
-    if (optind < argc) {
-        fprintf(stderr, "accelbench calibrate: unexpected argument '%s' (see --help)\n", term_text(argv[optind]));
-        return 2;
-    }
+    if (cli_no_operands("calibrate", argc, argv)) return 2;
     char run[PATH_MAX], csv[PATH_MAX], script[PATH_MAX], self[PATH_MAX];
     if ((size_t)snprintf(run, sizeof run, "%s/run", out) >= sizeof run - sizeof "/matrix.csv") {
         fprintf(stderr, "accelbench calibrate: --out %.60s...: a path too long\n", term_text(out));

@@ -25,3 +25,10 @@ const char *cli_one_run_folder(const char *cmd, int argc, char **argv)
     }
     return argv[optind];
 }
+
+int cli_no_operands(const char *cmd, int argc, char **argv)
+{
+    if (optind >= argc) return 0;
+    fprintf(stderr, "accelbench %s: unexpected argument '%s' (see --help)\n", cmd, term_text(argv[optind]));
+    return 2;
+}

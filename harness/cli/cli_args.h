@@ -1,6 +1,5 @@
-/* cli_args.h: the argument checks the commands that take one run folder
- * (report, predict) and their options share, with the same one-line
- * messages. */
+/* cli_args.h: the argument checks that report, predict, calibrate and
+ * tune share, with the same one-line messages. */
 #ifndef ACCELBENCH_CLI_ARGS_H
 #define ACCELBENCH_CLI_ARGS_H
 
@@ -11,5 +10,9 @@ int cli_bad_option(const char *cmd, const char *arg);
 /* The one positional argument left after getopt (argv[optind]), or NULL
  * after printing why: none given, or more than one. */
 const char *cli_one_run_folder(const char *cmd, int argc, char **argv);
+
+/* 0 when getopt left no argument (a command of options only), else 2
+ * after printing the first one as unexpected. */
+int cli_no_operands(const char *cmd, int argc, char **argv);
 
 #endif

@@ -160,7 +160,7 @@ static bool option_of(const char *cmd, const char *owner, const char *option)
     return false;
 }
 
-static int parse_long(const char *opt, const char *s, long lo, long hi, long *out)
+int options_parse_long(const char *opt, const char *s, long lo, long hi, long *out)
 {
     char *end;
     errno = 0;
@@ -186,7 +186,21 @@ static bool parse_side(const char *s, const char *end, long *out)
     return true;
 }
 
-static int parse_res(const char *s, workload_opts *w)
+int options_parse_seed(const char *s, uint64_t *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 10);
+    /* strtoull takes "-1" as 2^64 - 1: a sign is refused, not wrapped */
+    if (errno || end == s || *end || strchr(s, '-') || strchr(s, '+')) {
+        fprintf(stderr, "accelbench: --seed %s: expected an unsigned integer\n", s);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+int options_parse_res(const char *s, int *width, int *height)
 {
     const char *x = strchr(s, 'x');
     long wd, ht;
@@ -195,8 +209,8 @@ static int parse_res(const char *s, workload_opts *w)
         fprintf(stderr, "accelbench: --res %s: expected WxH with 1 <= W, H <= %d\n", s, IMAGE_SIDE_MAX);
         return -1;
     }
-    w->width = (int)wd;
-    w->height = (int)ht;
+    *width = (int)wd;
+    *height = (int)ht;
     return 0;
 }
 
@@ -385,29 +399,21 @@ static int read_option(options *o, const char *cmd, int c, char **argv, option_v
     case 's': return add_scenes(o, optarg);
     case 'a': a->accels = optarg; break;
     case 'w': a->workloads = optarg; break;
-    case 't': if (parse_long("threads", optarg, 1, 1024, &v)) return 2; o->threads = (int)v; break;
-    case 'n': if (parse_long("repeat", optarg, 1, 1000, &v)) return 2; o->repeat = (int)v; break;
+    case 't': if (options_parse_long("threads", optarg, 1, 1024, &v)) return 2; o->threads = (int)v; break;
+    case 'n': if (options_parse_long("repeat", optarg, 1, 1000, &v)) return 2; o->repeat = (int)v; break;
     case 'p':
         if (a->nparams == OPT_LIST_MAX) { fprintf(stderr, "accelbench: too many --param\n"); return 2; }
         a->params[a->nparams++] = optarg;
         break;
-    case 'r': if (parse_res(optarg, &o->wl)) return 2; a->res_given = true; break;
-    case 'S': {
-        char *end;
-        errno = 0;
-        unsigned long long s = strtoull(optarg, &end, 10);
-        /* strtoull takes "-1" as 2^64 - 1: a sign is refused, not wrapped */
-        if (errno || end == optarg || *end || strchr(optarg, '-') || strchr(optarg, '+')) { fprintf(stderr, "accelbench: --seed %s: expected an unsigned integer\n", optarg); return 2; }
-        o->wl.seed = s;
-        break;
-    }
+    case 'r': if (options_parse_res(optarg, &o->wl.width, &o->wl.height)) return 2; a->res_given = true; break;
+    case 'S': if (options_parse_seed(optarg, &o->wl.seed)) return 2; break;
     case 'o': if (check_path("out", optarg)) return 2; o->out = optarg; break;
-    case OPT_SPP: if (parse_long("spp", optarg, 1, 4096, &v)) return 2; o->wl.spp = (int)v; break;
-    case OPT_DEPTH: if (parse_long("depth", optarg, 1, 64, &v)) return 2; o->wl.depth = (int)v; break;
+    case OPT_SPP: if (options_parse_long("spp", optarg, 1, 4096, &v)) return 2; o->wl.spp = (int)v; break;
+    case OPT_DEPTH: if (options_parse_long("depth", optarg, 1, 64, &v)) return 2; o->wl.depth = (int)v; break;
     case OPT_CORNERS: o->wl.corners = true; break;
     case OPT_SAVE_RAYS: if (check_path("save-rays", optarg)) return 2; o->save_rays = optarg; break;
     case OPT_RAYS: if (check_path("rays", optarg)) return 2; o->rays_file = optarg; break;
-    case OPT_RAY: if (parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
+    case OPT_RAY: if (options_parse_long("ray", optarg, 0, 4294967295L, &v)) return 2; o->ray_index = v; break;
     case OPT_NO_PLOTS: o->plots = false; break;
     case OPT_REPORT:
     case OPT_HEATMAP_MAX:

@@ -19,6 +19,14 @@
     "                          --view, --up and --light make one view, applied to every scene: the CSV's scene column\n" \
     "                          says it (mesh.obj@up=Z;light=0,0,9)\n"
 
+/* The value checks of run's options, shared with the commands that run
+ * it (calibrate, tune): 0, or -1 after printing one line naming the
+ * option. An integer in lo..hi; an unsigned 64-bit seed (no sign); WxH
+ * with each side in 1..IMAGE_SIDE_MAX (digits only, never wrapped). */
+int options_parse_long(const char *opt, const char *s, long lo, long hi, long *out);
+int options_parse_seed(const char *s, uint64_t *out);
+int options_parse_res(const char *s, int *width, int *height);
+
 /* Parse the options of subcommand `cmd` (run, verify, render). Returns 0,
  * 1 after printing --help, or 2 after printing a one-line error. */
 int options_parse(options *o, const char *cmd, int argc, char **argv);

@@ -7,16 +7,16 @@
 #ifndef ACCELBENCH_SOURCE_DIR
 #define ACCELBENCH_SOURCE_DIR "."
 #endif
-#include <errno.h>
 #include <getopt.h>
 #include <limits.h>
 #include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 #include "../run/output.h"
 #include "cli_args.h"
+#include "options.h"
 
 static void tune_usage(FILE *out)
 {
@@ -43,14 +43,6 @@ static void tune_usage(FILE *out)
             "  Exit status: 0, 1 when a run failed, 2 on bad input.\n");
 }
 
-static bool positive(const char *s, long max)
-{
-    char *end;
-    errno = 0;
-    long n = strtol(s, &end, 10);
-    return !errno && *s && !*end && n >= 1 && n <= max;
-}
-
 int tune_main(int argc, char **argv)
 {
     static const struct option opts[] = {
@@ -73,35 +65,35 @@ int tune_main(int argc, char **argv)
         case 'a': accels = optarg; break;
         case 'r': {
             int w, h;
-            char tail;
-            if (sscanf(optarg, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
-                fprintf(stderr, "accelbench tune: --res %s: expected WxH, each in 1..16384\n", term_text(optarg));
-                return 2;
-            }
+            if (options_parse_res(optarg, &w, &h)) return 2;
             res = optarg;
             break;
         }
         case 'n':
-        case 't':
-        case 'e':
-            if (!positive(optarg, c == 'e' ? 2147483646L : c == 'n' ? 1000 : 4096)) {
-                fprintf(stderr, "accelbench tune: --%s %s: expected a positive integer%s\n",
-                        c == 'n' ? "repeat" : c == 't' ? "threads" : "seed", term_text(optarg),
-                        c == 'n' ? " up to 1000" : c == 't' ? " up to 4096" : "");
+        case 't': {
+            long n;
+            if (options_parse_long(c == 'n' ? "repeat" : "threads", optarg, 1, c == 'n' ? 1000 : 1024, &n)) return 2;
+            *(c == 'n' ? &repeat : &threads) = optarg;
+            break;
+        }
+        case 'e': {
+            uint64_t v;
+            if (options_parse_seed(optarg, &v)) return 2;
+            if (v == UINT64_MAX) {
+                fprintf(stderr, "accelbench tune: --seed %s: leaves no seed + 1 for the training rays\n",
+                        term_text(optarg));
                 return 2;
             }
-            *(c == 'n' ? &repeat : c == 't' ? &threads : &seed) = optarg;
+            seed = optarg;
             break;
+        }
         case 'o': out = optarg; break;
         case 'q': quiet = true; break;
         case 'h': tune_usage(stdout); return 0;
         default: return cli_bad_option("tune", argv[optind - 1]);
         }
     }
-    if (optind < argc) {
-        fprintf(stderr, "accelbench tune: unexpected argument '%s' (see --help)\n", term_text(argv[optind]));
-        return 2;
-    }
+    if (cli_no_operands("tune", argc, argv)) return 2;
     if (!scenes || !workloads) {
         fprintf(stderr, "accelbench tune: --%s is required (see --help)\n", scenes ? "workloads" : "scenes");
         return 2;
