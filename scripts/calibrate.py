@@ -23,8 +23,6 @@ Primitive tests are of the scene's mix of kinds: the CSV's counters do
 not split them by kind, so the cost of a test is the mix's. Exit status 2
 on bad input (one line naming it)."""
 import argparse
-import csv
-import io
 import os
 import statistics
 import sys
@@ -124,24 +122,11 @@ def calibrate(rows):
     return results, per_cell
 
 
-def fmt(v, digits=3):
-    if v is None:
-        return ""
-    return f"{v:.{digits}g}" if isinstance(v, float) else str(v)
-
-
-def machine_of(rows):
-    return (", ".join(dict.fromkeys(r.get("cpu", "") for r in rows if r.get("cpu"))) or "?",
-            ", ".join(dict.fromkeys(r.get("threads", "") for r in rows)) or "?")
+fmt = common.fmt_g
 
 
 def write_csv(path, header, records):
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(header)
-    for rec in records:
-        w.writerow([fmt(v, 9) if isinstance(v, float) else ("" if v is None else v) for v in rec])
-    common.write_text(path, buf.getvalue())
+    common.write_csv(path, header, records, lambda v: fmt(v, 9))
 
 
 def main(argv=None):
@@ -155,7 +140,7 @@ def main(argv=None):
     common.PROG = PROG
     csv_path, rows, out, labels = common.run_folder_rows(args.run, args.out, REQUIRED, args.accelbench)
     results, per_cell = calibrate(rows)
-    cpu, threads = machine_of(rows)
+    cpu, threads = common.column_values(rows, "cpu"), common.column_values(rows, "threads")
     names = [n for n, _ in TERMS]
     header = ["cpu", "isa", "threads", "configuration", "accel", "params", "cells", "fixed_ns"] + names + [
         "r2", "median_abs_rel_error", "max_abs_rel_error", "held_out_median_abs_rel_error"]

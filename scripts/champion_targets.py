@@ -400,7 +400,7 @@ def main(argv=None):
     a = Anchor(m, read_anchor(args.anchor)) if args.anchor else None
 
     def uniq(col, rs=rows):
-        return ", ".join(v for v in dict.fromkeys(r.get(col, "") for r in rs) if v) or "?"
+        return common.column_values(rs, col)
     isa = ", ".join(dict.fromkeys(param(r, "isa") for r in bvh_rows)) or "?"
     out = [f"# The champion's targets from {args.csv}\n",
            f"ISA of bvh's box kernels: **{isa}** (params column); machine {uniq('machine')}, cpu {uniq('cpu')}; "

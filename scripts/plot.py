@@ -171,9 +171,10 @@ def short_params(params, siblings, limit=MAX_PARAMS):
     return text if limit is None or len(text) <= limit else text[:limit - 1] + "…"
 
 
-def parse_accel_defaults(text):
-    """{accel: {key: default}} from the text of `accelbench list accels`."""
-    defaults, name = {}, None
+def parse_accel_listing(text):
+    """From the text of `accelbench list accels`: {accel: {key: default}} and {accel: (key, [values])}, the
+    search `accelbench tune` makes of each accelerator that declares one (its "tune: KEY=V|V" line)."""
+    defaults, tunes, name = {}, {}, None
     for line in text.splitlines():
         m = re.match(r"^  ([a-z][\w-]*) ", line)
         if m:
@@ -183,7 +184,16 @@ def parse_accel_defaults(text):
         m = re.match(r"^ {19}(\w+)=(\S*)  (?:\[here: (\S+)\] )?", line)
         if m and name:  # a default this machine settles (isa=auto [here: avx512]) is recorded settled
             defaults[name][m.group(1)] = m.group(3) or m.group(2)
-    return defaults
+            continue
+        m = re.match(r"^ {17}tune: (\w+)=(\S+)$", line)
+        if m and name:
+            tunes[name] = (m.group(1), m.group(2).split("|"))
+    return defaults, tunes
+
+
+def parse_accel_defaults(text):
+    """{accel: {key: default}} from the text of `accelbench list accels`."""
+    return parse_accel_listing(text)[0]
 
 
 def find_accelbench(given=None):
@@ -279,10 +289,15 @@ def safe_name(name):
     return re.sub(r"[^A-Za-z0-9.+-]+", "_", name).strip("._") or "scene"
 
 
+def column_values(rows, col):
+    """The distinct non-empty values of a column, in order, joined by commas; "?" when there are none."""
+    return ", ".join(v for v in dict.fromkeys(r.get(col, "") for r in rows) if v) or "?"
+
+
 def footer(fig, rows):
     """Small footer with machine/cpu, threads and git revision."""
     def uniq(col):
-        return ", ".join(v for v in dict.fromkeys(r.get(col, "") for r in rows) if v) or "?"
+        return column_values(rows, col)
     fig.text(0.01, 0.005, f"machine: {uniq('machine')} | cpu: {uniq('cpu')} | "
              f"threads: {uniq('threads')} | git: {uniq('git_rev')}",
              fontsize=7, color="0.35", ha="left", va="bottom")
@@ -633,6 +648,24 @@ def run_folder_rows(run, out=None, required=REQUIRED, accelbench=None):
     if not os.path.isdir(folder):
         fail(f"--out {folder}: no such folder")
     return csv_path, rows, folder, config_labels(rows, defaults=accel_defaults_from_env(accelbench))
+
+
+def fmt_g(v, digits=3):
+    """v with `digits` significant digits, other values as their text, None as ""."""
+    if v is None:
+        return ""
+    return f"{v:.{digits}g}" if isinstance(v, float) else str(v)
+
+
+def write_csv(path, header, records, cell=fmt_g):
+    """A CSV of header and records (lists of values, each written as cell(value)), whole or not at all."""
+    import io
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(header)
+    for rec in records:
+        w.writerow([cell(v) for v in rec])
+    write_text(path, buf.getvalue())
 
 
 def write_text(path, text):

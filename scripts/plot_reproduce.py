@@ -76,6 +76,6 @@ def images(rows, table):
 def footer(fig, rows):
     """Small footer with machine/cpu, threads, repeats and git revision."""
     def uniq(col):
-        return ", ".join(v for v in dict.fromkeys(r.get(col, "") for r in rows) if v) or "?"
+        return common.column_values(rows, col)
     fig.text(0.01, 0.005, f"machine: {uniq('machine')} | cpu: {uniq('cpu')} | timed threads: {uniq('threads')} | "
              f"repeat: {uniq('repeat')} | git: {uniq('git_rev')}", fontsize=7, color="0.35", ha="left", va="bottom")

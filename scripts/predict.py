@@ -153,21 +153,10 @@ def fmt(v, digits=2):
     return f"{v:.{digits}f}" if isinstance(v, float) else str(v)
 
 
-def write_csv(path, columns, records):
-    import csv
-    import io
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(columns)
-    for r in records:
-        w.writerow([fmt(r[c], 4) for c in columns])
-    common.write_text(path, buf.getvalue())
-
-
 def markdown(csv_path, acc, timing, rows):
     def uniq(col):
-        return ", ".join(v for v in dict.fromkeys(r.get(col, "") for r in rows) if v) or "?"
-    out = [f"# Cost models: predicted against measured work per ray\n",
+        return common.column_values(rows, col)
+    out = ["# Cost models: predicted against measured work per ray\n",
            f"From `{csv_path}` (machine {uniq('machine')}, cpu {uniq('cpu')}, git {uniq('git_rev')}). "
            "The models are stated for random lines walked whole (docs/accels, \"Cost model\"); rank corr. is "
            "Spearman's across the cells, |rel. error| the median of |predicted - measured| / measured, "
@@ -251,7 +240,7 @@ def main(argv=None):
     written = []
     for name, columns, records in (("prediction.csv", CSV_COLUMNS, acc), ("prediction_time.csv", TIME_COLUMNS, timing)):
         path = os.path.join(out, name)
-        write_csv(path, columns, records)
+        common.write_csv(path, columns, [[r[c] for c in columns] for r in records], lambda v: fmt(v, 4))
         written.append(path)
     path = os.path.join(out, "prediction.md")
     common.write_text(path, markdown(csv_path, acc, timing, rows))

@@ -25,10 +25,8 @@ default leaves on the table), and the run folder's plots. Every child is
 started with an argument vector, never a shell. Exit status: the first
 failing run's (2 on bad input), else 0."""
 import argparse
-import csv
 import math
 import os
-import re
 import subprocess
 import sys
 
@@ -41,16 +39,7 @@ num = common.num
 
 def parse_tune_specs(text):
     """{accel: (key, [values])} from the text of `accelbench list accels` (its "tune: KEY=V|V" lines)."""
-    specs, name = {}, None
-    for line in text.splitlines():
-        m = re.match(r"^  ([a-z][\w-]*) ", line)
-        if m:
-            name = m.group(1)
-            continue
-        m = re.match(r"^ {17}tune: (\w+)=(\S+)$", line)
-        if m and name:
-            specs[name] = (m.group(1), m.group(2).split("|"))
-    return specs
+    return common.parse_accel_listing(text)[1]
 
 
 def split_list(text):
@@ -139,8 +128,7 @@ def per_structure(recs):
     return out
 
 
-def fmt(v, digits=3):
-    return "" if v is None else (f"{v:.{digits}g}" if isinstance(v, float) else str(v))
+fmt = common.fmt_g
 
 
 def main(argv=None):
@@ -158,7 +146,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     common.PROG = PROG
     listing = subprocess.run([args.accelbench, "list", "accels"], capture_output=True, text=True).stdout
-    specs, defaults = parse_tune_specs(listing), common.parse_accel_defaults(listing)
+    defaults, specs = common.parse_accel_listing(listing)
     accels = split_list(args.accels) if args.accels else list(specs)
     tuned = [a for a in accels if a in specs]
     threads = ["--threads", args.threads] if args.threads else []
@@ -166,8 +154,7 @@ def main(argv=None):
     # 1. training
     training_dir = os.path.join(args.out, "training")
     if tuned:
-        key_of = {a: specs[a][0] for a in tuned}
-        sweep = ",".join(f"{a}[{key_of[a]}={'|'.join(specs[a][1])}]" for a in tuned)
+        sweep = ",".join(f"{a}[{specs[a][0]}={'|'.join(specs[a][1])}]" for a in tuned)
         rc = run(args.accelbench, ["run", "--scenes", args.scenes, "--accels", sweep, "--workloads", args.workloads,
                                    "--res", half_res(args.res), "--seed", str(int(args.seed) + 1), "--repeat", args.repeat,
                                    "--out", training_dir] + common_args, args.quiet)
@@ -175,10 +162,10 @@ def main(argv=None):
             print(f"{PROG}: the training run failed (exit {rc}); run the same command again to resume it",
                   file=sys.stderr)
             return rc
-    chosen = choose(rows_of(os.path.join(training_dir, "matrix.csv")), specs, defaults)  # 2. choice
+    training = rows_of(os.path.join(training_dir, "matrix.csv"))
+    chosen = choose(training, specs, defaults)  # 2. choice
     # 3. measurement: what is measured as given, in one run over every scene and workload; then per scene and
     # workload of the training run, each searched structure at its default and at its chosen value
-    training = rows_of(os.path.join(training_dir, "matrix.csv"))
     plans = []
     untuned = [a for a in accels if a not in specs]
     if untuned:
@@ -216,13 +203,8 @@ def main(argv=None):
                      "training_cells": cells, "search_ms": ms})
     cols = ["scene", "workload", "accel", "key", "default", "tuned", "default_ratio", "tuned_ratio", "gain",
             "training_cells", "search_ms"]
-    import io
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(cols)
-    for r in recs:
-        w.writerow([fmt(r[c], 6) if isinstance(r[c], float) else ("" if r[c] is None else r[c]) for c in cols])
-    common.write_text(os.path.join(args.out, "tuning.csv"), buf.getvalue())
+    common.write_csv(os.path.join(args.out, "tuning.csv"), cols, [[r[c] for c in cols] for r in recs],
+                     lambda v: fmt(v, 6))
     md = ["# Tuning: each structure at its best for the scene\n",
           f"Training on a quarter as many other rays (half the resolution, seed + 1); measured at "
           f"{args.res} with {args.repeat} paired repeats. Gain: the default's ratio to Embree over the tuned "
