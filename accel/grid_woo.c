@@ -116,7 +116,7 @@ static int check_res(const char *value)
     }
 
 static const accel_param grid_params[] = GRID_PARAM_TABLE("cubic:20", "off", "off", "off", "off", "0", "off", "off");
-static const accel_param grid_raybox_params[] = GRID_PARAM_TABLE("auto", "on", "almost", "on", "on", "0.75", "on", "on");
+static const accel_param grid_raybox_params[] = GRID_PARAM_TABLE("cubic:5", "on", "almost", "on", "on", "0.75", "on", "on");
 
 typedef struct {
     accel base;

@@ -17,7 +17,15 @@ blank: a constant counter cannot be told from the fixed cost). Written:
                          time on a scene the fit has not seen;
   calibration_cells.csv  per cell: measured and fitted ns per ray, the
                          relative error, and the held-out prediction;
-  calibration.md         the same as tables.
+  calibration.md         the same as tables;
+  calibration_workloads.csv  per configuration and workload: for each
+                         counter, the median over the cells of measured /
+                         predicted (its own cost-model prediction, or the
+                         predicted steps, tests or box tests, in that order,
+                         where the model predicts no such counter), and the
+                         median of Embree's time over the configuration's:
+                         what `accelbench advise` turns a prediction into
+                         counters, and counters into a ratio to Embree, with.
 A configuration with fewer cells than costs + 1 is listed without a fit.
 Primitive tests are of the scene's mix of kinds: the CSV's counters do
 not split them by kind, so the cost of a test is the mix's. Exit status 2
@@ -122,6 +130,34 @@ def calibrate(rows):
     return results, per_cell
 
 
+# each counter, the predicted column of the same counter, then the others in the order a stand-in is taken
+PREDICTED = {"box_tests_per_ray": "predicted_box_tests_per_ray", "tests_per_ray": "predicted_tests_per_ray",
+             "steps_per_ray": "predicted_steps_per_ray"}
+STAND_INS = ("predicted_steps_per_ray", "predicted_tests_per_ray", "predicted_box_tests_per_ray")
+
+
+def workload_scales(rows):
+    """Per (configuration, workload): {cells, embree_per_ns, and per counter column its scale and the predicted
+    column it scales}. A counter scales its own prediction where every cell has it, else the first stand-in every
+    cell has; a counter the configuration does not count, or a cell without a prediction, gives none."""
+    groups = {}
+    for r in rows:
+        groups.setdefault((common.config_key(r), r["workload"]), []).append(r)
+    out = {}
+    for key, cells in groups.items():
+        rec = {"cells": len(cells)}
+        inv = [1.0 / x for x in (num(r.get("ratio_vs_embree")) for r in cells) if x]
+        rec["embree_per_ns"] = statistics.median(inv) if inv else None
+        for col in PREDICTED:
+            for pcol in (PREDICTED[col],) + STAND_INS:
+                pairs = [(num(r.get(col)), num(r.get(pcol))) for r in cells]
+                if all(m is not None and p for m, p in pairs):
+                    rec[col] = (statistics.median(m / p for m, p in pairs), pcol)
+                    break
+        out[key] = rec
+    return out
+
+
 fmt = common.fmt_g
 
 
@@ -171,6 +207,15 @@ def main(argv=None):
                                     [fmt(v, 2) if v is not None else "" for v in rec[11:]]) + " |")
     path = os.path.join(out, "calibration.md")
     common.write_text(path, "\n".join(md) + "\n")
+    written.append(path)
+    scales = workload_scales(rows)
+    path = os.path.join(out, "calibration_workloads.csv")
+    cols = list(PREDICTED)
+    write_csv(path, ["configuration", "accel", "params", "workload", "cells", "embree_per_ns"] +
+              [x for c in cols for x in (c.replace("_per_ray", "_scale"), c.replace("_per_ray", "_from"))],
+              [[labels[cfg], cfg[0], cfg[1], w, rec["cells"], rec["embree_per_ns"]] +
+               [x for c in cols for x in (rec[c] if c in rec else (None, None))]
+               for (cfg, w), rec in scales.items()])
     written.append(path)
     if not args.quiet:
         for p in written:

@@ -20,8 +20,10 @@ Accelerators without a search, and instances given with parameters
 measured cell), tuning.csv (per scene, workload and structure: the default
 and the chosen setting, both ratios to Embree, the gain default / tuned,
 the training cells and the search's own time, its builds and traces) and
-tuning.md (those, and per structure the geometric-mean gain: what its
-default leaves on the table), and the run folder's plots. Every child is
+tuning.md (those, per structure the geometric-mean gain: what its default
+leaves on the table, and per value its geometric-mean ratio over the
+training cells: the one value a default would best take over the matrix),
+tuning_values.csv (that last table) and the run folder's plots. Every child is
 started with an argument vector, never a shell. Exit status: the first
 failing run's (2 on bad input), else 0."""
 import argparse
@@ -128,6 +130,27 @@ def per_structure(recs):
     return out
 
 
+def per_value(training, specs):
+    """Per searched structure and value: the training cells and the geometric mean of their ratios to Embree,
+    over the cells where every value was measured (so that each value sees the same cells): [{accel, key, value,
+    cells, gm}], in the search's order."""
+    by = {}
+    for r in training:
+        a = r["accel"]
+        v = param_of(r["params"], specs[a][0]) if a in specs else None
+        ratio = num(r["ratio_vs_embree"])
+        if v is not None and ratio:
+            by.setdefault(a, {}).setdefault((r["scene"], r["workload"]), {})[v] = ratio
+    out = []
+    for a, cells in by.items():
+        key, values = specs[a]
+        full = [c for c in cells.values() if all(v in c for v in values)]
+        for v in values:
+            out.append({"accel": a, "key": key, "value": v, "cells": len(full),
+                        "gm": common.geomean([c[v] for c in full]) if full else None})
+    return out
+
+
 fmt = common.fmt_g
 
 
@@ -214,6 +237,20 @@ def main(argv=None):
     for p in per_structure(recs):
         md.append(f"| {p['accel']} | {p['key']} (default {p['default']}) | {p['cells']} | {fmt(p['gm_gain'])} | "
                   f"{fmt(p['max_gain'])} | {p['values']} |")
+    values = per_value(training, specs)
+    md += ["", "## One value for every scene\n",
+           "Geometric mean of the training rays' ratios to Embree over the cells where every value was traced: the "
+           "value a default would best take over this matrix (marked *).\n",
+           "| structure | parameter | value | cells | geometric-mean ratio |", "|---|---|---|---:|---:|"]
+    for a in dict.fromkeys(x["accel"] for x in values):
+        mine = [x for x in values if x["accel"] == a]
+        best = min((x for x in mine if x["gm"]), key=lambda x: x["gm"], default=None)
+        for x in mine:
+            dflt = " (default)" if x["value"] == defaults.get(a, {}).get(x["key"]) else ""
+            md.append(f"| {a} | {x['key']} | {x['value']}{dflt}{' *' if x is best else ''} | {x['cells']} | "
+                      f"{fmt(x['gm'])} |")
+    common.write_csv(os.path.join(args.out, "tuning_values.csv"), ["accel", "key", "value", "cells", "gm_ratio"],
+                     [[x["accel"], x["key"], x["value"], x["cells"], x["gm"]] for x in values], lambda v: fmt(v, 6))
     md += ["", "## Per cell\n", "| scene | workload | structure | default | tuned | default ratio | tuned ratio | gain "
            "| search ms |", "|---|---|---|---|---|---:|---:|---:|---:|"]
     for r in recs:

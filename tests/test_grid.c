@@ -319,14 +319,14 @@ static void test_auto_resolution(void)
           strstr(why, "res=cubic:0"));
     scene_free(balls);
 
-    /* A built grid uses them: res=auto Woo's rule (grid-raybox's default), and grid's default cubic:20. */
+    /* A built grid uses them: res=auto Woo's rule, grid-raybox's default cubic:5 and grid's default cubic:20. */
     scene_t *s = test_scene("bunny");
     const char *cfgs[][2] = {{"grid", "res=auto"}, {"grid-raybox", ""}, {"grid", ""}};
     for (int i = 0; i < 3; i++) {
         accel *a = must_build(cfgs[i][0], s, cfgs[i][1]);
         int want[3], got[3];
-        if (i < 2) grid_auto_resolution(s->prims.box, s->prims.count, 1.0, want);
-        else grid_cubic_resolution(s->prims.box, s->prims.count, 20.0, want);
+        if (i == 0) grid_auto_resolution(s->prims.box, s->prims.count, 1.0, want);
+        else grid_cubic_resolution(s->prims.box, s->prims.count, i == 1 ? 5.0 : 20.0, want);
         grid_debug_dims(a, got);
         CHECK_MSG(memcmp(want, got, sizeof want) == 0, "%s [%s]: %d %d %d vs %d %d %d", cfgs[i][0], cfgs[i][1], got[0],
                   got[1], got[2], want[0], want[1], want[2]);

@@ -16,6 +16,9 @@
     tuning.csv row per structure whose chosen value is one of its search's
     and whose tuned ratio is the chosen setting's measured row; the default
     and the chosen setting measured in matrix.csv;
+  - per_value's one value for every scene: the synthetic optimum, over the
+    cells where every value was traced, and tuning_values.csv from the
+    command with every value of grid's search;
   - the folder's report shows a tuning table with both structures;
   - bad input (no --scenes, a malformed --res, --repeat 0, an unknown
     option) exits 2 with one line.
@@ -61,6 +64,14 @@ check(got.get(("s", "primary", "grid")) == ("cubic:40", "cubic:20", 5, 25.0), f"
 check(got.get(("s", "shadow", "grid")) == ("cubic:20", "cubic:20", 3, 6.0), f"a tie keeps the default: {got}")
 check(not any(k[2] == "exhaustive" for k in got), "an accelerator without a search is not chosen for")
 
+# one value for every scene: the geometric mean over the cells where every value was traced (shadow lacks
+# cubic:10 and cubic:40, so primary alone counts): lowest at cubic:40, ratio 1
+vals = tune.per_value(rows, {"grid": ("res", ["cubic:5", "cubic:10", "cubic:20", "cubic:40", "cubic:80"])})
+by = {v["value"]: v for v in vals}
+check(len(vals) == 5 and all(v["cells"] == 1 for v in vals), f"per_value: the complete cells only: {vals}")
+check(abs(by["cubic:40"]["gm"] - 1.0) < 1e-12 and abs(by["cubic:5"]["gm"] - 13.25) < 1e-12 and
+      min(vals, key=lambda v: v["gm"])["value"] == "cubic:40", f"per_value: the synthetic optimum: {vals}")
+
 tmp = tempfile.mkdtemp(prefix="accelbench-tune.")
 out = os.path.join(tmp, "t")
 p = subprocess.run([ACCELBENCH, "tune", "--scenes", "spd:balls:1", "--workloads", "shadow", "--accels", "grid,lightbuf,exhaustive",
@@ -95,6 +106,9 @@ for a in ("grid", "lightbuf"):
             r[0]["tuned_ratio"]), f"{a}: tuned ratio {r[0]['tuned_ratio']} is the measured row's")
     check(int(r[0]["training_cells"]) == len(values) and float(r[0]["search_ms"]) > 0, f"{a}: search {r[0]}")
 check(os.path.getsize(os.path.join(out, "tuning.md")) > 0 if p.returncode == 0 else False, "tuning.md written")
+values = read(os.path.join(out, "tuning_values.csv")) if p.returncode == 0 else []
+check({(v["accel"], v["value"]) for v in values} >= {("grid", x) for x in specs["grid"][1]},
+      f"tuning_values.csv: every value of grid's search: {values}")
 check(sum(1 for m in measured if m["accel"] == "exhaustive") == 1 and not any(x["accel"] == "exhaustive" for x in table),
       "exhaustive (no search) measured once, as given")
 

@@ -73,7 +73,7 @@
 #define LB_DEPTH_SLACK 1e-6         /* relative: depths rounded down, query depths and occ up */
 
 static const accel_param lb_params[] = {
-    PARAM_ROW_INT_OR("res", "32", "auto", 1, LB_RES_MAX,
+    PARAM_ROW_INT_OR("res", "auto", "auto", 1, LB_RES_MAX,
                      "cells per direction-cube face side (6 res^2 cells per light); auto: from the scene's size"),
     PARAM_ROW_BOOL("cull", "on", "drop polygons facing away from the light on closed solids (convex or embedded, decided soundly)"),
     PARAM_ROW_BOOL("single", "on", "a cell listing one polygon skips its test when the segment stays on one side of it"),

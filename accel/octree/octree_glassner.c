@@ -868,7 +868,7 @@ void octree_debug_fallbacks(const accel_ctx *ctx, uint64_t *relocated, uint64_t 
 /* ---------------------------------------------------------------- table */
 
 static const accel_param octree_params[] = {
-    PARAM_ROW_INT("maxdepth", "8", 0, OCTREE_MAXDEPTH_LIMIT,
+    PARAM_ROW_INT("maxdepth", "6", 0, OCTREE_MAXDEPTH_LIMIT,
                   "deepest node, root 0 (names pass 64 bits at depth 19, held in 128; depth 20 already allows 8^20 "
                   "= 1.2e18 voxels)"),
     PARAM_ROW_INT("maxprims", "2", 0, 1L << 30, "subdivide a voxel with more candidates than this"),

@@ -11,6 +11,7 @@
  *   accelbench predict RUN_DIR [--out DIR]                          cost models against the measured counters
  *   accelbench calibrate [--out DIR] [--from RUN_DIR]                what each counter costs on this machine
  *   accelbench tune --scenes L --workloads L [--accels L]             each structure at its best per scene
+ *   accelbench advise SCENE [--workloads L] [--check]                 which structure, predicted before tracing
  *
  * Exit status: 0 success, 1 verify found a real mismatch or run could not
  * write its results, 2 bad input, 128+N when run stopped on signal N. */
@@ -18,6 +19,7 @@
 #include <string.h>
 #include "../run/matrix.h"
 #include "../run/merge.h"
+#include "advise_cmd.h"
 #include "calibrate_cmd.h"
 #include "options.h"
 #include "predict_cmd.h"
@@ -48,6 +50,7 @@ static void usage(FILE *out)
             "  predict  RUN_DIR: each structure's cost model against its measured counters (rank correlation, error)\n"
             "  calibrate  what a box test, a primitive test and a step of each structure cost on this machine\n"
             "  tune     each structure's main parameter searched per scene and workload, default against tuned\n"
+            "  advise   SCENE: which structure to use, ranked by predicted time before tracing (--check: regret)\n"
             "  scene    info SCENE (counts, bounds, view, hash) | export SCENE --nff FILE\n"
             "  version  the build's git revision\n"
             "  help     this text (also --help, -h)\n"
@@ -182,6 +185,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "predict")) return predict_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "calibrate")) return calibrate_main(argc - 1, argv + 1);
     if (!strcmp(cmd, "tune")) return tune_main(argc - 1, argv + 1);
+    if (!strcmp(cmd, "advise")) return advise_main(argc - 1, argv + 1);
     int (*run)(options *) = !strcmp(cmd, "run") ? matrix_run : !strcmp(cmd, "verify") ? verify_main
                                                             : !strcmp(cmd, "render") ? render_main : NULL;
     if (!run) {

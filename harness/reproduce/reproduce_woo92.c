@@ -20,7 +20,7 @@
  * Variants (all grid-raybox unless said):
  *   old   raybox=on and every Woo switch off: Snyder-Barr alone, res=auto
  *         (Woo s8.2), the "Old Time" of Woo's Tables 2-3.
- *   new   grid-raybox defaults: Woo's final implementation.
+ *   new   grid-raybox defaults at res=auto: Woo's final implementation.
  *   tri   old + tclip=on + eyeorigin=on: Woo s7 alone ("Tri Time").
  *   raw   `grid` (3DDDA, mailboxes, no ray box): Table 1's raw traversal.
  *   ablation: old, then +woo90, +mtf=hit, +mtf=almost, +dynbox, +voxbox,
@@ -89,7 +89,11 @@ const scene_def woo92_scenes[SC_N] = {
 };
 
 /* Woo's Snyder-Barr alone: the ray box on, every one of his switches off. */
-#define OLD_SETTINGS "raybox=on,mtf=off,dynbox=off,voxbox=off,beta=0,tclip=off,woo90=off,eyeorigin=off,rayid=off"
+#define OLD_SETTINGS WOO_RES ",raybox=on,mtf=off,dynbox=off,voxbox=off,beta=0,tclip=off,woo90=off,eyeorigin=off,rayid=off"
+/* Woo's resolution rule (s8.2), which every variant of his tables uses
+ * unless a table names a resolution; `new` is grid-raybox's defaults at it. */
+#define WOO_RES "res=auto"
+#define NEW_SETTINGS WOO_RES
 #define TRI_SETTINGS OLD_SETTINGS ",tclip=on,eyeorigin=on"
 
 const abl_step woo92_abl_steps[ABL_N] = {
@@ -207,8 +211,8 @@ static void prepare_sets(woo_run *r, int w, int h, int spp, bool reflection)
 }
 
 
-/* Which ablation row is `new` (grid-raybox defaults): the cumulative
- * settings of each row against the defaults. */
+/* Which ablation row is `new` (grid-raybox defaults at Woo's rule): the
+ * cumulative settings of each row against them. */
 static int find_new_rows(woo_run *r)
 {
     const struct accel_ops *ops = accel_find("grid-raybox");
@@ -216,6 +220,7 @@ static int find_new_rows(woo_run *r)
     char ds[512], ps[512], err[256], cum[600] = OLD_SETTINGS;
     params_defaults(&d, ops->params);
     params_defaults(&p, ops->params);
+    if (params_set_list(&d, NEW_SETTINGS, err, sizeof err)) return 2;
     params_format(&d, ds, sizeof ds);
     if (params_set_list(&p, cum, err, sizeof err)) return 2;
     for (int k = 0; k < ABL_N; k++) {
@@ -259,9 +264,9 @@ static int run_experiments(woo_run *r)
             if (!(r->abl[si][k] = rp_measure(&r->k, "ablation", woo92_abl_steps[k].name, "grid-raybox", cum))) return 2;
         }
         if (!(r->t2_old[si] = rp_measure(&r->k, "table2", "old", "grid-raybox", OLD_SETTINGS))) return 2;
-        if (!(r->t2_new[si] = rp_measure(&r->k, "table2", "new", "grid-raybox", ""))) return 2;
+        if (!(r->t2_new[si] = rp_measure(&r->k, "table2", "new", "grid-raybox", NEW_SETTINGS))) return 2;
         if (scene == SC_SPHERES) {
-            if (!(r->t4[0] = rp_measure(&r->k, "table4", "new@auto", "grid-raybox", ""))) return 2;
+            if (!(r->t4[0] = rp_measure(&r->k, "table4", "new@auto", "grid-raybox", NEW_SETTINGS))) return 2;
             for (int i = 0; i < 3; i++) {
                 int n = w->t4_res[i];
                 char variant[32];
@@ -279,7 +284,7 @@ static int run_experiments(woo_run *r)
                 snprintf(v[2], sizeof v[2], "new@spp%d", w->spp[i]);
                 if (!(r->t3_old[i] = rp_measure(&r->k, "table3", v[0], "grid-raybox", OLD_SETTINGS))) return 2;
                 if (!(r->t3_tri[i] = rp_measure(&r->k, "table3", v[1], "grid-raybox", TRI_SETTINGS))) return 2;
-                if (!(r->t3_new[i] = rp_measure(&r->k, "table3", v[2], "grid-raybox", ""))) return 2;
+                if (!(r->t3_new[i] = rp_measure(&r->k, "table3", v[2], "grid-raybox", NEW_SETTINGS))) return 2;
             }
         }
     }

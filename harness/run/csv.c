@@ -87,7 +87,7 @@ static bool needs_guard(const char *s)
 
 /* RFC 4180: quote a field holding a comma, quote or newline (the guard
  * inside the quotes). */
-static void put_text(FILE *f, const char *s)
+void csv_put_text(FILE *f, const char *s)
 {
     if (!s) s = "";
     bool quote = strpbrk(s, ",\"\n\r") != NULL;
@@ -145,13 +145,13 @@ static void put_size(FILE *f, int v)
 
 static void put_row(FILE *f, const csv_row *r)
 {
-    put_text(f, r->scene);
+    csv_put_text(f, r->scene);
     fprintf(f, ",%" PRIu32 ",", r->prims);
-    put_text(f, r->accel);
+    csv_put_text(f, r->accel);
     fputc(',', f);
-    put_text(f, r->params);
+    csv_put_text(f, r->params);
     fputc(',', f);
-    put_text(f, r->workload);
+    csv_put_text(f, r->workload);
     fprintf(f, ",%" PRIu32 ",%d,%" PRIu64 ",%016" PRIx64, r->rays, r->threads, r->seed, r->rayset_hash);
     put_ms(f, r, "%.4f", r->build_ms);
     put_ms(f, r, "%.4f", r->trace_ms);
@@ -181,14 +181,14 @@ static void put_row(FILE *f, const csv_row *r)
     put_size(f, r->repeat);
     put_size(f, r->no_rays ? 0 : r->passes);
     fputc(',', f);
-    put_text(f, r->no_rays ? "" : r->timed_path);
+    csv_put_text(f, r->no_rays ? "" : r->timed_path);
     fputc(',', f);
-    put_text(f, r->no_rays || !r->timed_from ? "" : r->timed_from);
+    csv_put_text(f, r->no_rays || !r->timed_from ? "" : r->timed_from);
     put_stats(f, r);
     const char *const tail[] = {r->run_id, r->cell_key, r->git_rev, r->machine, r->cpu, r->date}; /* columns_tail */
     for (int i = 0; i < 6; i++) {
         fputc(',', f);
-        put_text(f, tail[i]);
+        csv_put_text(f, tail[i]);
     }
     fputc('\n', f);
 }

@@ -67,6 +67,10 @@ int csv_format_row(const csv_row *r, char **text, size_t *len);
 /* Write the row to f and flush it. Returns 0, or -1 with errno set when a
  * write or the flush failed (the caller reports "PATH: write failed"). */
 int csv_write_row(FILE *f, const csv_row *r);
+/* One text field as the rows write it: quoted (RFC 4180) when it holds a
+ * comma, quote or line break, and a leading = + - @ tab, return or quote
+ * guarded with a ' so that a spreadsheet does not run it as a formula. */
+void csv_put_text(FILE *f, const char *s);
 
 /* Where one field lies in a record's text: len bytes from off, quotes
  * included when quoted. */
