@@ -348,12 +348,13 @@ int advise_main(int argc, char **argv)
     }
     char dir[PATH_MAX], path[PATH_MAX + 32], script[PATH_MAX], self[PATH_MAX];
     if (output_folder(out, "advise-", dir, sizeof dir)) return 2;
+    /* This binary's path, read before the builds: a rebuild meanwhile would leave /proc/self/exe "(deleted)". */
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    self[n > 0 ? n : 0] = 0;
     memory_cap_set_mib(0);
     snprintf(path, sizeof path, "%s/predictions.csv", dir);
     int rc = write_predictions(path, scenes, nscenes, cands, ncands, tune, quiet);
     if (rc) return rc;
-    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    self[n > 0 ? n : 0] = 0;
     snprintf(script, sizeof script, "%s/scripts/advise.py", ACCELBENCH_SOURCE_DIR);
     char *args[] = {(char *)python_interpreter(), script, dir, "--calibration", (char *)calibration, "--workloads",
                     (char *)workloads, "--accelbench", self, "--res", (char *)res, "--repeat", (char *)repeat,

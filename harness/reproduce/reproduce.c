@@ -16,6 +16,7 @@ static const experiment experiments[] = {
     {"woo92", reproduce_woo92, woo92_usage, "Woo 1992's Tables 1-4 and an ablation, re-run: our numbers, verified"},
     {"havran", reproduce_havran, havran_usage, "Havran and Sixta's grids and Havran's octrees (RTN 1999) on the SPD, plus BSPs"},
     {"spd", reproduce_spd, spd_usage, "the SPD Readme's testing procedure: its ray counts and tests per ray beside ours"},
+    {"survey", reproduce_survey, survey_usage, "every structure of the survey, default and tuned: its Figure 1's considerations as numbers"},
 };
 #define N_EXPERIMENTS (int)(sizeof experiments / sizeof experiments[0])
 

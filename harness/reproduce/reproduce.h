@@ -9,6 +9,9 @@
  *           Havran's octrees (RTN 12(2)) on the SPD databases, plus BSPs
  *   spd     reproduce_spd.c: the SPD Readme's testing procedure (the
  *           whitted workload) and its ray counts and test counts
+ *   survey  reproduce_survey.c: the survey's structures at their defaults
+ *           and tuned, its Figure 1's considerations as numbers
+ *           (scripts/survey.py)
  *
  *   accelbench reproduce EXPERIMENT [--out DIR] [--threads N] [--repeat N] [--quick] ...
  *
@@ -33,5 +36,7 @@ int reproduce_havran(int argc, char **argv);
 void havran_usage(FILE *out);
 int reproduce_spd(int argc, char **argv);
 void spd_usage(FILE *out);
+int reproduce_survey(int argc, char **argv);
+void survey_usage(FILE *out);
 
 #endif
