@@ -36,7 +36,9 @@ argument vector, resumable), and DIR/regret.csv and regret.md give per
 cell the regret: the measured ratio of the advised first choice over the
 measured best's, for all candidates and for the survey's structures alone
 (bvh, the testbed's own wide BVH, left out), with the share of cells
-within 10 % and the rank correlation of predicted and measured times.
+within 10 % and the rank correlation of predicted and measured times, over
+all cells and over the scenes the calibration was not fitted on (those of
+its calibration_cells.csv are marked).
 Exit status 2 on bad input (one line naming it), 1 when a run failed."""
 import argparse
 import os
@@ -166,7 +168,7 @@ def rank(preds, costs, scales, workloads):
                     best[a] = {"scene": scene, "workload": w, "accel": a, "value": p["value"],
                                "setting": f"{p['key']}={p['value']}" if p["key"] else "default", "ns": ns,
                                "ratio": ns / embree_ns if embree_ns else None, "term": term,
-                               "share": terms[term] / ns if ns > 0 else None, "build_ms": num(p["build_ms"]),
+                               "share": terms[term] / ns if ns > 0 else 0.0, "build_ms": num(p["build_ms"]),
                                "bytes_per_prim": num(p["mem_bytes"]) / prims if prims else None,
                                "key": p["key"], "label": p["label"]}
             out += sorted(best.values(), key=lambda b: b["ns"])
@@ -228,8 +230,15 @@ def check(args, recs):
     return 0
 
 
-def regret_table(recs, measured):
-    """Per cell: the advised and the measured best, over all candidates and over the survey's structures alone."""
+def calibration_scenes(folder):
+    """The scenes the calibration was fitted on (its calibration_cells.csv), or an empty set."""
+    path = os.path.join(folder, "calibration_cells.csv")
+    return {r["scene"] for r in common.load_rows(path, ("scene",))} if os.path.isfile(path) else set()
+
+
+def regret_table(recs, measured, calibrated=frozenset()):
+    """Per cell: the advised and the measured best, over all candidates and over the survey's structures alone;
+    whether the scene was one the calibration was fitted on."""
     out = []
     for scene, w in cells(recs):
         mine = [r for r in recs if r["scene"] == scene and r["workload"] == w]
@@ -239,7 +248,7 @@ def regret_table(recs, measured):
             for m in measured:
                 if m["scene"] == scene and m["workload"] == w and m["accel"] == r["accel"] and m["params"] == key:
                     got[r["accel"]] = num(m["ratio_vs_embree"])
-        rec = {"scene": scene, "workload": w}
+        rec = {"scene": scene, "workload": w, "calibration_scene": int(scene in calibrated)}
         for tag, pool in (("", mine), ("survey_", [r for r in mine if r["accel"] not in OWN])):
             pool = [r for r in pool if got.get(r["accel"])]
             if not pool:
@@ -255,7 +264,7 @@ def regret_table(recs, measured):
     return out
 
 
-REGRET_COLS = ["scene", "workload", "advised", "advised_ratio", "best", "best_ratio", "regret", "survey_advised",
+REGRET_COLS = ["scene", "workload", "calibration_scene", "advised", "advised_ratio", "best", "best_ratio", "regret", "survey_advised",
                "survey_advised_ratio", "survey_best", "survey_best_ratio", "survey_regret", "rank_corr"]
 
 
@@ -275,8 +284,13 @@ def write_regret(out, table):
           "advised). Goal: within 10 % of the best in at least 80 % of the cells.\n",
           "| candidates | cells | within 10 % | median regret | geometric mean | worst |", "|---|---:|---:|---:|---:|---:|"]
     lines = []
-    for tag, name in (("", "all"), ("survey_", "the survey's structures (bvh left out)")):
-        s = summary(table, tag)
+    held = [t for t in table if not t["calibration_scene"]]
+    groups = [("", "all", table), ("survey_", "the survey's structures (bvh left out)", table)]
+    if len(held) < len(table):
+        groups += [("", "all, scenes not calibrated on", held),
+                   ("survey_", "the survey's structures, scenes not calibrated on", held)]
+    for tag, name, rows in groups:
+        s = summary(rows, tag)
         if s:
             md.append(f"| {name} | {s['cells']} | {fmt(100 * s['within'], 3)} % | {fmt(s['median'])} | "
                       f"{fmt(s['gm'])} | {fmt(s['worst'])} |")
@@ -286,10 +300,11 @@ def write_regret(out, table):
     if corr:
         md.append(f"\nRank correlation of predicted and measured times per cell: median {fmt(statistics.median(corr))}"
                   f" over {len(corr)} cells.\n")
-    md += ["## Per cell\n", "| scene | workload | advised | x Embree | best | x Embree | regret | survey: advised | best "
+    md += ["## Per cell\n", "Scenes the calibration was fitted on are marked *.\n",
+           "| scene | workload | advised | x Embree | best | x Embree | regret | survey: advised | best "
            "| regret | rank corr. |", "|---|---|---|---:|---|---:|---:|---|---|---:|---:|"]
     for t in table:
-        md.append(f"| {t['scene']} | {t['workload']} | {t.get('advised', '')} | {fmt(t.get('advised_ratio'))} | "
+        md.append(f"| {t['scene']}{' *' if t['calibration_scene'] else ''} | {t['workload']} | {t.get('advised', '')} | {fmt(t.get('advised_ratio'))} | "
                   f"{t.get('best', '')} | {fmt(t.get('best_ratio'))} | {fmt(t.get('regret'))} | "
                   f"{t.get('survey_advised', '')} | {t.get('survey_best', '')} | {fmt(t.get('survey_regret'))} | "
                   f"{fmt(t.get('rank_corr'))} |")
@@ -334,7 +349,7 @@ def main(argv=None):
     measured = common.dedup_rows(common.load_rows(os.path.join(args.out, "check", "matrix.csv"),
                                                   ("scene", "accel", "params", "workload", "ratio_vs_embree")),
                                  os.path.join(args.out, "check", "matrix.csv"))
-    for line in write_regret(args.out, regret_table(recs, measured)):
+    for line in write_regret(args.out, regret_table(recs, measured, calibration_scenes(args.calibration))):
         print(line)
     if not args.quiet:
         for f in ("advice.csv", "advice.md", "regret.csv", "regret.md"):

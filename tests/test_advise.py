@@ -138,6 +138,8 @@ check(close(tab["primary"]["survey_regret"], 1.0) and tab["primary"]["survey_adv
       f"survey alone: grid advised and best: {tab['primary']}")
 check(close(tab["shadow"]["regret"], 2.0) and close(tab["shadow"]["survey_regret"], 1.0),
       f"shadow: lightbuf 3 against bvh 1.5; lightbuf best of the survey's: {tab['shadow']}")
+check(tab["primary"]["calibration_scene"] == 0 and
+      advise.regret_table(got, measured, {"s"})[0]["calibration_scene"] == 1, "a calibration scene is marked")
 s = advise.summary(list(tab.values()), "")
 check(s["cells"] == 2 and s["within"] == 0.0 and close(s["worst"], 2.0), f"summary: {s}")
 

@@ -16,6 +16,8 @@ known costs:
   - "lightbuf": no box-test column (empty) and one step in every cell:
     both costs are left out (a constant counter is the fixed cost);
   - "bvh": 3 cells for 4 costs: listed without a fit;
+  - with exhaustive in the run, grid is given its cost of a primitive test
+    and its other costs recovered exactly, bvh keeps its own;
   - Embree's rows are left out.
 Then `accelbench calibrate --from` on that folder writes the three files
 and keys them by cpu and isa, and bad input (--from a missing folder,
@@ -111,6 +113,36 @@ check("embree" not in res, "embree left out")
 with open(os.path.join(tmp, "calibration_cells.csv"), newline="") as f:
     cells = list(csv.DictReader(f))
 check(sum(1 for c in cells if c["configuration"].startswith("grid")) == 10, "grid's ten cells listed")
+check(g.get("test_ns_from") == "fit", f"no exhaustive in the run: grid's test cost fitted: {g.get('test_ns_from')}")
+
+# --- the shared primitive test: with exhaustive in the run (19 ns a test), grid is given 19 ns and its other costs
+# fitted (recovered exactly); a grid whose tests and steps rise together would trade their costs if fitted freely;
+# bvh keeps its own
+rows.clear()
+rng2 = random.Random(7)
+for s in range(6):
+    for w in ("primary", "diffuse"):
+        scene = f"spd:s{s}"
+        n = rng2.uniform(50, 500)
+        add("exhaustive", scene, w, None, n, None, 19 * n)
+        t = rng2.uniform(1, 30)
+        st = 2 * t + rng2.uniform(0, 1)
+        add("grid", scene, w, rng2.uniform(1, 9), t, st, 40 + 19 * t + 5 * st)
+        b, t2 = rng2.uniform(5, 60), rng2.uniform(1, 9)
+        add("bvh", scene, w, b, t2, b / 3, 10 + 3 * b + 2 * t2)
+tmp2 = tempfile.mkdtemp(prefix="accelbench-calibrate.")
+with open(os.path.join(tmp2, "matrix.csv"), "w", newline="") as f:
+    w = csv.DictWriter(f, COLS)
+    w.writeheader()
+    w.writerows(rows)
+check(calibrate.main([tmp2, "--quiet"]) == 0, "calibrate.py on the run with exhaustive")
+with open(os.path.join(tmp2, "calibration.csv"), newline="") as f:
+    res2 = {r["accel"]: r for r in csv.DictReader(f)}
+g2, e2, b2 = res2.get("grid", {}), res2.get("exhaustive", {}), res2.get("bvh", {})
+check(close(e2.get("test_ns", ""), 19, 1e-9) and e2.get("test_ns_from") == "fit", f"exhaustive's test: {e2}")
+check(g2.get("test_ns_from") == "exhaustive" and close(g2.get("test_ns", ""), 19, 1e-9) and
+      close(g2.get("step_ns", ""), 5, 1e-6) and close(g2.get("fixed_ns", ""), 40, 1e-6), f"grid given 19 ns: {g2}")
+check(b2.get("test_ns_from") == "fit" and close(b2.get("test_ns", ""), 2, 1e-6), f"bvh's own tests: {b2}")
 
 # --- the command
 out = os.path.join(tmp, "cal")

@@ -29,6 +29,12 @@
 #define CAL_SCENES_QUICK "spd:balls:2,spd:gears:2,spd:tetra:4,spd:mount:4"
 #define CAL_ACCELS "exhaustive,grid,grid-raybox,octree,bsp,bvh-gs,slabs-kk,raycls,lightbuf,bvh,raycoh"
 #define CAL_WORKLOADS "primary,shadow,diffuse,random"
+/* Three Debian-packaged meshes, for the structures `advise` ranks: costs
+ * fitted on small SPD scenes alone do not carry to meshes, whose walks
+ * touch more memory. Exhaustive, ray classification and ray coherence are
+ * calibrated on the SPD scenes only (each costs minutes a mesh cell). */
+#define CAL_MESHES "bunny,armadillo,elephant"
+#define CAL_MESH_ACCELS "grid,grid-raybox,octree,bsp,bvh-gs,slabs-kk,lightbuf,bvh"
 
 static void calibrate_usage(FILE *out)
 {
@@ -40,11 +46,12 @@ static void calibrate_usage(FILE *out)
             "  and the error held out by scene. Keyed by the CPU and the SIMD instruction set.\n"
             "  The matrix: " CAL_SCENES "\n"
             "    x " CAL_ACCELS "\n"
+            "    and " CAL_MESHES " x " CAL_MESH_ACCELS "\n"
             "    x " CAL_WORKLOADS ", 64x64, 3 paired repeats.\n"
             "  Writes DIR/run/ (the matrix), DIR/calibration.csv, calibration_cells.csv and calibration.md.\n"
             "  --out DIR        the output folder (created; default ./calibration)\n"
             "  --from RUN_DIR   fit an existing run folder instead of measuring (DIR/run is not written)\n"
-            "  --quick          a smaller matrix (" CAL_SCENES_QUICK ", 32x32, 1 repeat)\n"
+            "  --quick          a smaller matrix (" CAL_SCENES_QUICK ", no meshes, 32x32, 1 repeat)\n"
             "  --threads N      threads of the matrix (default 1: the costs of one core)\n"
             "  --quiet          do not list the files written (the matrix still shows its progress)\n"
             "  Exit status: 0, 1 when the run or the fit failed, 2 on bad input.\n");
@@ -113,6 +120,11 @@ int calibrate_main(int argc, char **argv)
                         "--workloads", CAL_WORKLOADS, "--res", quick ? "32x32" : "64x64", "--repeat",
                         quick ? "1" : "3", "--threads", (char *)threads, "--out", run, "--no-plots", NULL};
         int rc = spawn_wait(args);
+        if (rc == 0 && !quick) {
+            args[3] = CAL_MESHES;
+            args[5] = CAL_MESH_ACCELS;
+            rc = spawn_wait(args);
+        }
         if (rc != 0) {
             fprintf(stderr, "accelbench calibrate: the calibration matrix failed (exit %d); rerun to resume it\n", rc);
             return rc == 2 ? 2 : 1;
