@@ -23,7 +23,10 @@ the fit priced at nothing costs what exhaustive's calibrated test costs
 (the same primitive tests), so that a setting trading steps for tests is
 not free (bvh, whose leaves test in its own SIMD code, excepted).
 Embree's time is predicted from bvh's at its default, times the calibrated
-median of Embree's time over bvh's on that workload: both are SAH BVHs.
+median of Embree's time over bvh's on that workload: both are SAH BVHs. A
+structure calibrated with exhaustive's cost of a primitive test pays the
+scene's own mix of kinds (`accelbench scene info`) at the calibrated prices
+by kind (calibration_kinds.csv), where there are some.
 
 Written to DIR: advice.csv (one row per scene, workload and candidate, in
 rank order: setting, predicted ns per ray and ratio to Embree, the term
@@ -81,6 +84,24 @@ def load_calibration(folder):
     return costs, scales
 
 
+def load_kind_costs(folder):
+    """{kind: ns} of calibration_kinds.csv, or {} where the calibration has none."""
+    path = os.path.join(folder, "calibration_kinds.csv")
+    if not os.path.isfile(path):
+        return {}
+    return {r["kind"]: num(r["test_ns"]) for r in common.load_rows(path, ("kind", "test_ns"))
+            if num(r["test_ns"]) is not None}
+
+
+def mix_cost(kind_costs, kinds):
+    """A primitive test of a scene's mix ({kind: count}) at the calibrated prices by kind; None when a kind the
+    scene holds has no price."""
+    n = sum(kinds.values()) if kinds else 0
+    if not n or any(c and k not in kind_costs for k, c in kinds.items()):
+        return None
+    return sum(kind_costs[k] * c / n for k, c in kinds.items() if c)
+
+
 def calibrated_config(costs, accel, params):
     """The calibration row of accel: the one at params (its default here) if calibrated, else its first."""
     rows = [r for r in costs.get(accel, []) if num(r["fixed_ns"]) is not None]
@@ -116,14 +137,18 @@ def test_floor(costs):
     return num(row.get("test_ns")) if row else None
 
 
-def predict_ns(pred, cal, scales, workload, floor=None):
+def predict_ns(pred, cal, scales, workload, floor=None, scene_test=None):
     """(ns per ray, {term: ns}) of one prediction row on a workload, or None when a term it needs is missing.
-    A primitive test the fit priced at nothing (its cost folded into the others over the calibration's cells)
-    costs floor where the model predicts tests: otherwise a setting that trades steps for tests would look free."""
+    A structure calibrated with exhaustive's cost of a test pays scene_test, this scene's mix at the prices by
+    kind, where given. A primitive test the fit priced at nothing (its cost folded into the others over the
+    calibration's cells) costs floor where the model predicts tests: otherwise a setting that trades steps for
+    tests would look free."""
     fixed = num(cal["fixed_ns"]) or 0.0
     terms = {"fixed cost": fixed}
     for cost_col, counter, name in COUNTERS:
         cost = num(cal.get(cost_col))
+        if counter == "tests_per_ray" and scene_test and (cal.get("test_ns_from") or "").startswith("exhaustive"):
+            cost = scene_test
         if (not cost and counter == "tests_per_ray" and floor and pred["accel"] not in OWN_TESTS
                 and num(pred.get("predicted_tests_per_ray"))):
             cost = floor
@@ -136,20 +161,22 @@ def predict_ns(pred, cal, scales, workload, floor=None):
     return sum(terms.values()), terms
 
 
-def rank(preds, costs, scales, workloads):
+def rank(preds, costs, scales, workloads, kind_costs=None, scene_kinds=None):
     """[{scene, workload, accel, setting, value, ns, ratio, term, share, build_ms, bytes_per_prim, params}] in rank
-    order per scene and workload, each candidate at its best predicted setting."""
+    order per scene and workload, each candidate at its best predicted setting. kind_costs, scene_kinds: the
+    calibrated prices of a test by kind and each scene's {kind: count}, where known."""
     out = []
     floor = test_floor(costs)
     for scene in dict.fromkeys(p["scene"] for p in preds):
         mine = [p for p in preds if p["scene"] == scene]
+        scene_test = mix_cost(kind_costs or {}, (scene_kinds or {}).get(scene))
         defaults = {p["accel"]: p["params"] for p in mine if p["label"] == p["accel"]}
         for w in workloads:
             proxy = [p for p in mine if p["accel"] == EMBREE_PROXY and p["label"] == EMBREE_PROXY]
             embree_ns = None
             if proxy:
                 cal = calibrated_config(costs, EMBREE_PROXY, proxy[0]["params"])
-                got = predict_ns(proxy[0], cal, scales, w, floor) if cal else None
+                got = predict_ns(proxy[0], cal, scales, w, floor, scene_test) if cal else None
                 per = embree_per_ns(scales, cal["configuration"], w) if cal else None
                 embree_ns = got[0] * per if got and per else None
             best = {}
@@ -158,7 +185,7 @@ def rank(preds, costs, scales, workloads):
                 if p["candidate"] != "1" or (a in SHADOW_ONLY and w != "shadow"):
                     continue
                 cal = calibrated_config(costs, a, defaults.get(a, p["params"]))
-                got = predict_ns(p, cal, scales, w, floor) if cal else None
+                got = predict_ns(p, cal, scales, w, floor, scene_test) if cal else None
                 if got is None:
                     continue
                 ns, terms = got
@@ -331,7 +358,10 @@ def main(argv=None):
                               "mem_bytes"))
     costs, scales = load_calibration(args.calibration)
     workloads = [w for w in args.workloads.split(",") if w]
-    recs = rank(preds, costs, scales, workloads)
+    kind_costs = load_kind_costs(args.calibration)
+    kinds = common.scene_kinds(args.accelbench, list(dict.fromkeys(p["scene"] for p in preds))) \
+        if kind_costs and args.accelbench else {}
+    recs = rank(preds, costs, scales, workloads, kind_costs, kinds)
     if not recs:
         common.fail(f"{args.calibration}: calibrates none of the candidates built (run `accelbench calibrate`)")
     params_of = {(p["scene"], p["label"]): p["params"] for p in preds}

@@ -24,6 +24,13 @@ Written:
   calibration_cells.csv  per cell: measured and fitted ns per ray, the
                          relative error, and the held-out prediction;
   calibration.md         the same as tables;
+  calibration_kinds.csv  what one primitive test of each kind (triangle,
+                         sphere, cone, polygon) costs, from exhaustive's
+                         cells: each cell's tests split by the scene's
+                         shares of the kinds (`accelbench scene info`), the
+                         costs fitted by least squares; a structure given
+                         the shared cost of a test pays its scene's mix at
+                         these prices;
   calibration_workloads.csv  per configuration and workload: for each
                          counter, the median over the cells of measured /
                          predicted (its own cost-model prediction, or the
@@ -33,8 +40,8 @@ Written:
                          what `accelbench advise` turns a prediction into
                          counters, and counters into a ratio to Embree, with.
 A configuration with fewer cells than costs + 1 is listed without a fit.
-Primitive tests are of the scene's mix of kinds: the CSV's counters do
-not split them by kind, so the cost of a test is the mix's. Exit status 2
+The CSV's counters do not split tests by kind: the cost of a test by kind
+comes from exhaustive's cells and the scenes' shares of the kinds. Exit status 2
 on bad input (one line naming it)."""
 import argparse
 import os
@@ -67,16 +74,27 @@ def nonneg_lstsq(X, y):
     return np.zeros(n)
 
 
-def fit(cells, terms, given=None):
-    """cells: [(scene, workload, {column: value}, ns)]; given: {cost name: value} held fixed. Returns
-    (coefficients [fixed] + terms, fitted ns list)."""
+def fit(cells, terms, given=None, intercept=True):
+    """cells: [(scene, workload, {column: value}, ns)]; given: {cost name: a value, or a function of the scene}
+    held fixed; intercept False holds the fixed cost at 0. Returns (coefficients [fixed] + terms, a given cost's
+    its median over the cells; the fitted ns list; a function from a cell to its fitted ns)."""
     given = given or {}
+
+    def held(n, c):
+        return given[n](c[0]) if callable(given[n]) else given[n]
+
     free = [(n, col) for n, col in terms if n not in given]
-    X = np.array([[1.0] + [c[2][col] for _, col in free] for c in cells])
-    y = np.array([c[3] - sum(given[n] * c[2][col] for n, col in terms if n in given) for c in cells])
+    X = np.array([[1.0] * intercept + [c[2][col] for _, col in free] for c in cells])
+    y = np.array([c[3] - sum(held(n, c) * c[2][col] for n, col in terms if n in given) for c in cells])
     part = iter(nonneg_lstsq(X, y))
-    coef = [next(part)] + [given[n] if n in given else next(part) for n, _ in terms]
-    return coef, [coef[0] + sum(k * c[2][col] for k, (_, col) in zip(coef[1:], terms)) for c in cells]
+    fixed = next(part) if intercept else 0.0
+    costs = {n: next(part) for n, _ in free}
+
+    def predict(c):
+        return fixed + sum((held(n, c) if n in given else costs[n]) * c[2][col] for n, col in terms)
+
+    coef = [fixed] + [statistics.median(held(n, c) for c in cells) if n in given else costs[n] for n, _ in terms]
+    return coef, [predict(c) for c in cells], predict
 
 
 def r_squared(y, yhat):
@@ -107,22 +125,59 @@ OWN_TESTS = ("bvh",)
 SHARED_TEST = "exhaustive"
 
 
-def test_cost(all_cells, without=None):
-    """What one shared primitive test costs: exhaustive's fit (its cells, without scene `without`), or None."""
+def shared_cells(all_cells, without=None):
+    """exhaustive's cells (without scene `without`) with their tests counted, or []."""
     for cfg, cells in all_cells.items():
         if cfg[0] == SHARED_TEST:
-            cells = [c for c in cells if c[0] != without]
-            if len(cells) >= 3 and all(c[2]["tests_per_ray"] is not None for c in cells):
-                coef, _ = fit(cells, [("test_ns", "tests_per_ray")])
-                return coef[1] or None
-    return None
+            cells = [c for c in cells if c[0] != without and c[2]["tests_per_ray"] is not None]
+            return cells if len(cells) >= 3 else []
+    return []
 
 
-def calibrate(rows):
-    """(per-configuration results, per-cell rows)."""
+def kind_costs(all_cells, kinds, without=None):
+    """What one primitive test of each kind costs, from exhaustive's cells: ns per ray = the sum over kinds of
+    cost x tests x the kind's share of the scene's primitives (least squares, costs >= 0; no fixed cost, which
+    beside a test of every primitive is nothing and would take a kind's share). ({kind: ns}, R^2, cells), or None
+    when a scene's kinds are unknown or the cells are too few for the kinds present."""
+    cells = shared_cells(all_cells, without)
+    if not cells or any(c[0] not in kinds for c in cells):
+        return None
+    present = [k for k in common.PRIM_KINDS if any(kinds[c[0]][k] for c in cells)]
+    if len(cells) < len(present) + 1:
+        return None
+    share = {sc: {k: kinds[sc][k] / max(1, sum(kinds[sc].values())) for k in present} for sc in {c[0] for c in cells}}
+    split = [(c[0], c[1], {k: c[2]["tests_per_ray"] * share[c[0]][k] for k in present}, c[3]) for c in cells]
+    coef, fitted, _ = fit(split, [(k, k) for k in present], intercept=False)
+    return dict(zip(present, coef[1:])), r_squared([c[3] for c in cells], fitted), len(cells)
+
+
+def test_cost(all_cells, kinds=None, without=None):
+    """What one shared primitive test costs: a function of the scene, the scene's mix priced by kind (where every
+    kind it holds has a cost), else exhaustive's cost of the calibration's mix; None without exhaustive's cells."""
+    cells = shared_cells(all_cells, without)
+    if not cells:
+        return None
+    coef, _, _ = fit(cells, [("test_ns", "tests_per_ray")])
+    mix = coef[1] or None
+    by_kind = kind_costs(all_cells, kinds or {}, without)
+    if not by_kind:
+        return mix
+    costs = by_kind[0]
+
+    def of_scene(scene):
+        k = (kinds or {}).get(scene)
+        n = sum(k.values()) if k else 0
+        if not n or any(k[x] and x not in costs for x in k):
+            return mix
+        return sum(costs[x] * k[x] / n for x in costs)
+    return of_scene
+
+
+def calibrate(rows, kinds=None):
+    """(per-configuration results, per-cell rows); kinds: {scene: {kind: count}} where known."""
     results, per_cell = [], []
     all_cells = cells_of(rows)
-    shared = test_cost(all_cells)
+    shared = test_cost(all_cells, kinds)
     for cfg, cells in all_cells.items():
         # the counters this structure counts, present in every cell; one the same in every cell (lightbuf's
         # one cell read per query) cannot be told from the fixed cost and folds into it
@@ -135,10 +190,11 @@ def calibrate(rows):
         # of exhaustive's), and the costs would not carry to other scenes
         uses_shared = cfg[0] not in OWN_TESTS + (SHARED_TEST,) and any(n == "test_ns" for n, _ in terms)
         given = {"test_ns": shared} if uses_shared and shared else {}
-        res["test_from"] = SHARED_TEST if given else "fit" if any(n == "test_ns" for n, _ in terms) else ""
+        res["test_from"] = (("exhaustive by kind" if callable(shared) else SHARED_TEST) if given
+                            else "fit" if any(n == "test_ns" for n, _ in terms) else "")
         if len(cells) < len(terms) - len(given) + 2:
             continue
-        coef, fitted = fit(cells, terms, given)
+        coef, fitted, _ = fit(cells, terms, given)
         y = [c[3] for c in cells]
         errs = [abs(f - m) / m for f, m in zip(fitted, y)]
         res.update(fixed_ns=coef[0], r2=r_squared(y, fitted), median_err=statistics.median(errs), max_err=max(errs))
@@ -152,11 +208,11 @@ def calibrate(rows):
                 train = [c for c in cells if c[0] != s]
                 if len(train) < len(terms) - len(given) + 2:
                     continue
-                g = {"test_ns": test_cost(all_cells, s) or shared} if given else {}
-                cf, _ = fit(train, terms, g)
+                g = {"test_ns": test_cost(all_cells, kinds, s) or shared} if given else {}
+                _, _, predict = fit(train, terms, g)
                 for i, c in enumerate(cells):
                     if c[0] == s:
-                        held[i] = cf[0] + sum(cf[k + 1] * c[2][col] for k, (_, col) in enumerate(terms))
+                        held[i] = predict(c)
             herr = [abs(h - m) / m for h, m in zip(held, y) if h is not None]
             res["held_out_err"] = statistics.median(herr) if herr else None
         for c, f, h in zip(cells, fitted, held):
@@ -211,7 +267,9 @@ def main(argv=None):
     args = ap.parse_args(argv)
     common.PROG = PROG
     csv_path, rows, out, labels = common.run_folder_rows(args.run, args.out, REQUIRED, args.accelbench)
-    results, per_cell = calibrate(rows)
+    kinds = common.scene_kinds(args.accelbench, list(dict.fromkeys(r["scene"] for r in rows))) \
+        if args.accelbench else {}
+    results, per_cell = calibrate(rows, kinds)
     cpu, threads = common.column_values(rows, "cpu"), common.column_values(rows, "threads")
     names = [n for n, _ in TERMS]
     header = ["cpu", "isa", "threads", "configuration", "accel", "params", "cells", "fixed_ns"] + names + [
@@ -244,6 +302,16 @@ def main(argv=None):
     path = os.path.join(out, "calibration.md")
     common.write_text(path, "\n".join(md) + "\n")
     written.append(path)
+    by_kind = kind_costs(cells_of(rows), kinds)
+    path = os.path.join(out, "calibration_kinds.csv")
+    write_csv(path, ["cpu", "isa", "kind", "test_ns", "cells", "r2"],
+              [[cpu, args.isa, k, v, by_kind[2], by_kind[1]] for k, v in by_kind[0].items()] if by_kind else [])
+    written.append(path)
+    if by_kind:
+        md.append("\nA primitive test by kind (exhaustive's cells, each test of a scene's mix split by its shares of "
+                  f"the kinds; R^2 {fmt(by_kind[1], 2)}): " +
+                  ", ".join(f"{k} {fmt(v)} ns" for k, v in by_kind[0].items()) + ".")
+        common.write_text(os.path.join(out, "calibration.md"), "\n".join(md) + "\n")
     scales = workload_scales(rows)
     path = os.path.join(out, "calibration_workloads.csv")
     cols = list(PREDICTED)

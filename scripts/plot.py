@@ -650,6 +650,24 @@ def run_folder_rows(run, out=None, required=REQUIRED, accelbench=None):
     return csv_path, rows, folder, config_labels(rows, defaults=accel_defaults_from_env(accelbench))
 
 
+PRIM_KINDS = ("triangles", "spheres", "cones", "polygons")
+_SCENE_INFO = re.compile(r"^primitives \d+: (\d+) triangles \(\d+ degenerate\), (\d+) spheres, (\d+) cones, "
+                         r"(\d+) polygons", re.M)
+
+
+def scene_kinds(accelbench, scenes):
+    """{scene: {kind: count}} from `accelbench scene info SCENE` (an argument vector, one scene a call), for the
+    scenes it describes; one it cannot load is left out."""
+    import subprocess
+    out = {}
+    for s in scenes:
+        p = subprocess.run([accelbench, "scene", "info", s], capture_output=True, text=True, errors="replace")
+        m = _SCENE_INFO.search(p.stdout) if p.returncode == 0 else None
+        if m:
+            out[s] = dict(zip(PRIM_KINDS, (int(x) for x in m.groups())))
+    return out
+
+
 def fmt_g(v, digits=3):
     """v with `digits` significant digits, other values as their text, None as ""."""
     if v is None:

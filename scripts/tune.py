@@ -24,8 +24,10 @@ tuning.md (those, per structure the geometric-mean gain: what its default
 leaves on the table, and per value its geometric-mean ratio over the
 training cells: the one value a default would best take over the matrix),
 tuning_values.csv (that last table) and the run folder's plots. Every child is
-started with an argument vector, never a shell. Exit status: the first
-failing run's (2 on bad input), else 0."""
+started with an argument vector, never a shell. A cell whose build fails
+(a value over the memory cap on a large scene, say) is skipped and said on
+stderr (`run --keep-going`): that value is not chosen there. Exit status:
+the first failing run's (2 on bad input), else 0."""
 import argparse
 import math
 import os
@@ -173,7 +175,8 @@ def main(argv=None):
     accels = split_list(args.accels) if args.accels else list(specs)
     tuned = [a for a in accels if a in specs]
     threads = ["--threads", args.threads] if args.threads else []
-    common_args = ["--no-plots"] + threads
+    # a value that cannot be built on a scene (over the memory cap, say) loses its cells, not the search
+    common_args = ["--no-plots", "--keep-going"] + threads
     # 1. training
     training_dir = os.path.join(args.out, "training")
     if tuned:
@@ -181,11 +184,14 @@ def main(argv=None):
         rc = run(args.accelbench, ["run", "--scenes", args.scenes, "--accels", sweep, "--workloads", args.workloads,
                                    "--res", half_res(args.res), "--seed", str(int(args.seed) + 1), "--repeat", args.repeat,
                                    "--out", training_dir] + common_args, args.quiet)
-        if rc != 0:
+    training = rows_of(os.path.join(training_dir, "matrix.csv"))
+    if tuned and rc != 0:
+        if rc != 2 or not training:
             print(f"{PROG}: the training run failed (exit {rc}); run the same command again to resume it",
                   file=sys.stderr)
             return rc
-    training = rows_of(os.path.join(training_dir, "matrix.csv"))
+        print(f"{PROG}: some training cells were not measured (their builds failed, above): those values are not "
+              "chosen there", file=sys.stderr)
     chosen = choose(training, specs, defaults)  # 2. choice
     # 3. measurement: what is measured as given, in one run over every scene and workload; then per scene and
     # workload of the training run, each searched structure at its default and at its chosen value
@@ -207,7 +213,10 @@ def main(argv=None):
         rc = run(args.accelbench, ["run", "--scenes", scene, "--accels", ",".join(inst), "--workloads", workload,
                                    "--res", args.res, "--seed", args.seed, "--repeat", args.repeat, "--out", args.out]
                  + common_args, args.quiet)
-        if rc != 0:
+        if rc == 2 and os.path.isfile(os.path.join(args.out, "matrix.csv")):
+            print(f"{PROG}: {scene} / {workload}: some cells were not measured (their builds failed, above)",
+                  file=sys.stderr)
+        elif rc != 0:
             print(f"{PROG}: the measuring run of {scene} / {workload} failed (exit {rc}); run the same command "
                   "again to resume", file=sys.stderr)
             return rc

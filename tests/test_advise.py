@@ -87,6 +87,11 @@ ns, _ = advise.predict_ns(dict(pred, accel="bvh"), cal, scales, "primary", floor
 check(close(ns, 32), f"bvh's tests keep their own (zero) cost: {ns}")
 ns, _ = advise.predict_ns(pred, cal, scales, "random")
 check(close(ns, 10 + 2 * 1.0 * 4 + 3 * 2.0 * 4), f"an uncalibrated workload takes the median scales: {ns}")
+check(close(advise.mix_cost({"triangles": 10.0, "spheres": 2.0}, {"triangles": 3, "spheres": 1, "cones": 0}), 8.0) and
+      advise.mix_cost({"triangles": 10.0}, {"triangles": 3, "cones": 1}) is None, "a scene's mix at the prices by kind")
+ns, terms = advise.predict_ns(pred, dict(cal, test_ns="14", test_ns_from="exhaustive by kind"), scales, "primary",
+                              scene_test=8.0)
+check(close(terms["primitive tests"], 8.0 * 2 * 3), f"a structure priced by exhaustive pays the scene's mix: {terms}")
 check(advise.predict_ns({"accel": "grid", "predicted_tests_per_ray": "3"}, cal, scales, "primary") is None,
       "a term without its prediction: no time")
 

@@ -18,6 +18,9 @@ known costs:
   - "bvh": 3 cells for 4 costs: listed without a fit;
   - with exhaustive in the run, grid is given its cost of a primitive test
     and its other costs recovered exactly, bvh keeps its own;
+  - by kind: prices of a triangle, sphere and cone test recovered exactly
+    from exhaustive's cells on scenes of known mixes, and a grid given each
+    scene's mix at those prices with its other costs recovered;
   - Embree's rows are left out.
 Then `accelbench calibrate --from` on that folder writes the three files
 and keys them by cpu and isa, and bad input (--from a missing folder,
@@ -143,6 +146,32 @@ check(close(e2.get("test_ns", ""), 19, 1e-9) and e2.get("test_ns_from") == "fit"
 check(g2.get("test_ns_from") == "exhaustive" and close(g2.get("test_ns", ""), 19, 1e-9) and
       close(g2.get("step_ns", ""), 5, 1e-6) and close(g2.get("fixed_ns", ""), 40, 1e-6), f"grid given 19 ns: {g2}")
 check(b2.get("test_ns_from") == "fit" and close(b2.get("test_ns", ""), 2, 1e-6), f"bvh's own tests: {b2}")
+
+# --- by kind: exhaustive's scenes of known mixes (triangles 12 ns, spheres 4, cones 30) recovered exactly; a grid
+# on those scenes pays each scene's mix at those prices and its step cost is recovered exactly
+rows.clear()
+kinds = {"t": {"triangles": 100, "spheres": 0, "cones": 0, "polygons": 0},
+         "s": {"triangles": 0, "spheres": 100, "cones": 0, "polygons": 0},
+         "m": {"triangles": 50, "spheres": 25, "cones": 25, "polygons": 0},
+         "c": {"triangles": 0, "spheres": 40, "cones": 60, "polygons": 0}}
+price = {"triangles": 12.0, "spheres": 4.0, "cones": 30.0}
+mix = {sc: sum(price[k] * n for k, n in kd.items() if n) / sum(kd.values()) for sc, kd in kinds.items()}
+for sc in kinds:
+    for w in ("primary", "shadow"):
+        t = rng2.uniform(20, 100)
+        add("exhaustive", sc, w, None, t, None, mix[sc] * t)
+        t2 = rng2.uniform(1, 9)
+        st = rng2.uniform(3, 30)
+        add("grid", sc, w, 1.0, t2, st, 25 + mix[sc] * t2 + 6 * st)
+cells = calibrate.cells_of(rows)
+kc = calibrate.kind_costs(cells, kinds)
+check(kc is not None and all(close(repr(kc[0][k]), v, 1e-6) for k, v in price.items()) and "polygons" not in kc[0],
+      f"prices by kind recovered, polygons absent: {kc}")
+res3 = {r["config"][0]: r for r in calibrate.calibrate(rows, kinds)[0]}
+g3 = res3.get("grid", {})
+check(g3.get("test_from") == "exhaustive by kind" and close(repr(g3.get("step_ns")), 6, 1e-6) and
+      close(repr(g3.get("fixed_ns")), 25, 1e-6), f"grid at each scene's mix: {g3}")
+check(calibrate.kind_costs(cells, {"t": kinds["t"]}) is None, "a scene of unknown kinds: no prices")
 
 # --- the command
 out = os.path.join(tmp, "cal")

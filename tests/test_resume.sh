@@ -12,7 +12,9 @@
 # full disk) is exit 1 with the reason and leaves no half row; a second run on
 # the same folder is refused; a replayed ray file's own resolution and
 # samples are what the row says; a ray set of no rays gives rows with
-# rays 0 and empty measurements; plot.py keeps the last row of a cell.
+# rays 0 and empty measurements; --keep-going skips a cell whose build
+# fails and measures the rest (exit 2), without it the run stops there;
+# plot.py keeps the last row of a cell.
 # Prints "N passed, N failed"; exits 1 on a failure.
 set -u
 set -m # background runs get SIGINT as a terminal's job would (a script's background jobs ignore it otherwise)
@@ -221,6 +223,16 @@ for r in rows:
     assert all(r[c] == "" for c in ("build_ms", "trace_ms", "mrays_per_s", "ratio_vs_embree", "embree_ms",
                                      "mem_bytes", "tests_per_ray", "passes", "timed_path")), r
 PY
+
+# --- --keep-going: a cell whose build fails (a grid over the memory cap) is skipped and the rest measured, exit 2;
+# without it the run stops there
+KG=(run --scenes spd:balls:1 --accels "grid[res=600x600x600],exhaustive" --workloads primary,shadow --res 16x16 --repeat 1
+    --threads 1 --no-plots --memcap 256)
+expect 2 "2 cell\(s\) not measured: their builds failed" -- "$AB" "${KG[@]}" --keep-going --out "$T/kg"
+[ "$(rows "$T/kg/matrix.csv")" = 2 ] && ok || bad "--keep-going measured $(rows "$T/kg/matrix.csv") cells, want 2"
+expect 2 "build failed" -- "$AB" "${KG[@]}" --out "$T/kgstop"
+[ "$(rows "$T/kgstop/matrix.csv")" -le 0 ] && ok || bad "without --keep-going the run went on past the failed build"
+refused "keep-going is an option of run" -- "$AB" verify --scenes spd:balls:1 --accels grid --keep-going
 
 # --- plot.py: the last row of a cell wins, in files with and without cell_key
 /usr/bin/python3 - "$SRCDIR/scripts" "$T/ref/matrix.csv" <<'PY' && ok || bad "plot.py keeps the last row of a cell"

@@ -17,7 +17,7 @@
 #include <unistd.h>
 
 enum { OPT_SAVE_RAYS = 256, OPT_RAYS, OPT_RAY, OPT_NO_PLOTS, OPT_CORNERS, OPT_SPP, OPT_DEPTH, OPT_HEATMAP, OPT_JUDGE_SECONDS,
-       OPT_VIEW, OPT_REDO, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL, OPT_SHARD, OPT_REPORT, OPT_HEATMAP_MAX,
+       OPT_VIEW, OPT_REDO, OPT_KEEP_GOING, OPT_WARM_PASSES, OPT_MEMCAP, OPT_SHADOW_ACCEL, OPT_SHARD, OPT_REPORT, OPT_HEATMAP_MAX,
        OPT_UP, OPT_LIGHT };
 
 static const struct option long_opts[] = {
@@ -38,6 +38,7 @@ static const struct option long_opts[] = {
     {"memcap", required_argument, NULL, OPT_MEMCAP},
     {"redo", no_argument, NULL, OPT_REDO},
     {"warm-passes", no_argument, NULL, OPT_WARM_PASSES},
+    {"keep-going", no_argument, NULL, OPT_KEEP_GOING},
     {"shard", required_argument, NULL, OPT_SHARD},
     {"shadow-accel", required_argument, NULL, OPT_SHADOW_ACCEL},
     {"report", no_argument, NULL, OPT_REPORT}, {"heatmap-max", required_argument, NULL, OPT_HEATMAP_MAX},
@@ -103,6 +104,8 @@ void options_usage(FILE *out, const char *cmd)
                 "  --out DIR               output folder (default results/<date-time>); matrix.csv is appended,\n"
                 "                          and cells it already has with the same options are skipped (resumes a run)\n"
                 "  --redo                  measure those cells again, replacing their rows\n"
+                "  --keep-going            a cell whose build fails (over a memory cap, say) is reported and skipped,\n"
+                "                          the others measured; exit 2 at the end when any was (default: stop there)\n"
                 "  --warm-passes           an accelerator built while tracing (raycls) is not reset before its\n"
                 "                          timed passes: they measure the structure the first pass grew, not its\n"
                 "                          growth (CSV timed_from=warm; default: every pass from the post-build state)\n"
@@ -356,6 +359,10 @@ static int read_command_option(options *o, const char *cmd, int c, option_values
         if (!option_of(cmd, "run", "--redo")) return 2;
         o->redo = true;
         break;
+    case OPT_KEEP_GOING:
+        if (!option_of(cmd, "run", "--keep-going")) return 2;
+        o->keep_going = true;
+        break;
     case OPT_WARM_PASSES:
         if (strcmp(cmd, "run") != 0) {
             fprintf(stderr, "accelbench %s: --warm-passes is an option of run (see accelbench run --help)\n", cmd);
@@ -418,6 +425,7 @@ static int read_option(options *o, const char *cmd, int c, char **argv, option_v
     case OPT_REPORT:
     case OPT_HEATMAP_MAX:
     case OPT_REDO:
+    case OPT_KEEP_GOING:
     case OPT_WARM_PASSES:
     case OPT_SHARD:
     case OPT_SHADOW_ACCEL:

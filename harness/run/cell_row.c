@@ -67,7 +67,7 @@ int measure_cell_row(const cell_rays *c, const accel_config *ac, const row_setti
     cell_measurement m;
     if (measure_cell(c, ac, &st->cell, &m)) return -1;
     out->vr = m.vr;
-    return cell_row(c, ac, st, &m, &out->row);
+    return cell_row(c, ac, st, &m, &out->row) ? -2 : 0;
 }
 
 void stats_format(const csv_row *row, char *buf, size_t len)

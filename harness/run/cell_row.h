@@ -28,8 +28,8 @@ typedef struct {
 int cell_row(const cell_rays *c, const accel_config *ac, const row_settings *st, const cell_measurement *m, csv_row *r);
 
 /* measure_cell, then its row (a set of no rays: rays 0 with the measured
- * columns empty, csv.h no_rays). Returns 0, or -1 when the build failed or
- * the cell key does not fit (reported on stderr). */
+ * columns empty, csv.h no_rays). Returns 0, -1 when the build failed or
+ * -2 when the cell key does not fit (each reported on stderr). */
 int measure_cell_row(const cell_rays *c, const accel_config *ac, const row_settings *st, cell_result *out);
 
 /* A row's statistics as "name value, name value" ("" when there are none). */

@@ -183,14 +183,17 @@ static int write_run_info(const options *o, const char *info_path, const machine
     return rc == -2 ? 2 : 1;
 }
 
-/* Measure one cell and file its row. Returns 0, 1 (a write failed) or 2. */
+/* Measure one cell and file its row. Returns 0, 1 (a write failed), 2, or
+ * CELL_BUILD_FAILED (its build failed, said on stderr; no row). */
+#define CELL_BUILD_FAILED 3
 static int run_one_cell(const options *o, results_store *store, const cell_rays *in, int si, int wi,
                         const accel_config *ac, const row_settings *settings, const rayset_t *replay_key, int index,
                         int total)
 {
     cell_result cr;
     char key[CELL_KEY_MAX], err[1200];
-    if (measure_cell_row(in, ac, settings, &cr)) return 2;
+    int m = measure_cell_row(in, ac, settings, &cr);
+    if (m) return m == -1 ? CELL_BUILD_FAILED : 2;
     if (run_cell_key(o, si, wi, ac, replay_key, key, sizeof key)) return 2;
     snprintf(cr.row.cell_key, sizeof cr.row.cell_key, "%s", key);
     char *text;
@@ -276,7 +279,7 @@ int matrix_run(options *o)
     row_settings settings = {.cell = {.threads = o->threads, .repeat = o->repeat, .warm_passes = o->warm_passes},
                              .width = o->wl.width, .height = o->wl.height, .spp = o->wl.spp, .mi = &mi};
     if (replay) settings.width = settings.height = settings.spp = 0; /* a replayed file's image is its own, or none */
-    int index = 0, measured = 0;
+    int index = 0, measured = 0, failed_builds = 0;
     progress_start = monotonic_s();
     double wall0 = clock_ms();
     for (int si = 0; si < o->nscenes && status == 0; si++) {
@@ -317,6 +320,10 @@ int matrix_run(options *o)
                 if (st == CELL_DONE) continue;
                 status = run_one_cell(o, store, &in, si, wi, &o->accels[ai], &settings, rk, index, cells.total);
                 measured += status == 0;
+                if (status == CELL_BUILD_FAILED) {
+                    failed_builds++;
+                    status = o->keep_going ? 0 : 2;
+                }
             }
             cell_rays_release(&in);
         }
@@ -332,7 +339,7 @@ int matrix_run(options *o)
     free(cells.state);
     free(mine);
     if (!o->quiet && status == 0) {
-        int skipped = index - measured;
+        int skipped = index - measured - failed_builds;
         if (measured == 0 && cells.total > 0)
             fprintf(stderr, "nothing to measure: all %d cells of this run are in %s\n", cells.total, csv_path);
         else
@@ -340,8 +347,13 @@ int matrix_run(options *o)
                     skipped ? ", the others done before" : "", (clock_ms() - wall0) / 1e3);
     }
     if (status == 1) fprintf(stderr, "accelbench: %s holds every cell finished before the failure\n", csv_path);
+    if (failed_builds && status == 0) {
+        /* --keep-going: the others are measured and plotted; the run still says it was not whole. */
+        fprintf(stderr, "accelbench: %d cell(s) not measured: their builds failed (above); the run goes on to the "
+                        "end with --keep-going, and exits 2\n", failed_builds);
+    }
     if (o->report && status == 0) {
         if (run_dir_outputs(out_dir, o->quiet)) status = 1;
     } else if (o->plots && status == 0) run_plot_script("plot.py", csv_path, o->quiet);
-    return status;
+    return status == 0 && failed_builds ? 2 : status;
 }

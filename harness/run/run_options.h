@@ -29,6 +29,7 @@ typedef struct {
     bool report;          /* run --report: plots and report.html at the end (run_outputs.h) */
     double heatmap_max;   /* render --heatmap-max N: the colour scale's top (0: the image's own maximum) */
     bool redo;            /* run --redo: measure cells the CSV already has again, replacing their rows (resume.h) */
+    bool keep_going;      /* run --keep-going: a cell whose build fails is reported and skipped, the run goes on */
     bool warm_passes;     /* run --warm-passes: timed passes of a resetting accelerator keep what earlier passes built */
     int shard_k, shard_n; /* run --shard K/N: only shard K of N (shard.h); 0, 0 for the whole matrix */
     int argc_full;        /* main's argc and argv (set by main.c): run prints the command that resumes it */
