@@ -88,8 +88,15 @@ check(slow[0]["break_even_rays"] == math.inf, f"not faster than testing 10 primi
 lines = survey.findings(list(recs.values()))
 check(any("fastest structure is grid" in x for x in lines) and any(x.startswith("lightbuf, on the shadow rays")
                                                                    for x in lines), f"findings: {lines}")
-check("| uniform grids (s5.2) | grid | 4 |" in survey.markdown(list(recs.values()), lines, "a,b", "16x16", "1"),
-      "the table's row")
+md = survey.markdown(list(recs.values()), lines, "a,b", "16x16", "1")
+check("| uniform grids (s5.2) | grid | primary and diffuse rays | 4 |" in md and
+      "| directional (s6) | lightbuf | shadow rays | 2 |" in md, "the table's rows: what rays each was measured on")
+fam = [{"accel": "grid", "applies_to": "all rays", "speed": 3.0, "speed_tuned": 2.0},
+       {"accel": "grid-raybox", "applies_to": "all rays", "speed": 2.5, "speed_tuned": 2.4},
+       {"accel": "raycoh", "applies_to": "all rays", "speed": 9.0, "speed_tuned": None},
+       {"accel": "lightbuf", "applies_to": "shadow rays", "speed": 1.0, "speed_tuned": 0.5}]
+check([r["accel"] for r in survey.family_rows(fam)] == ["grid", "raycoh"],
+      "per family: the best tuned structure over all rays (the light buffer answers shadow rays only)")
 
 with tempfile.TemporaryDirectory() as tmp:
     out = os.path.join(tmp, "s")
