@@ -209,21 +209,17 @@ def findings(recs):
             flat = [r["accel"] for r in sens if r["tuning_gain"] < 1.05]
             out.append(f"The most parameter-sensitive is {s['accel']}: tuning gains {fmt(s['tuning_gain'])}x over its "
                        f"default" + (f"; {', '.join(flat)} gain under 5 %." if flat else "."))
-        grow = [r for r in survey if r.get("growth") is not None]
-        if grow:
-            g = sorted(grow, key=lambda r: r["growth"])
-            out.append(f"Time per ray grows slowest with scene size for {g[0]['accel']} (N^{fmt(g[0]['growth'], 2)}) "
-                       f"and fastest for {g[-1]['accel']} (N^{fmt(g[-1]['growth'], 2)}).")
-        coh = [r for r in survey if r.get("diffuse_over_primary")]
-        if coh:
-            c = sorted(coh, key=lambda r: r["diffuse_over_primary"])
-            out.append(f"Incoherent rays cost {fmt(c[0]['diffuse_over_primary'])}x the primary rays' time for "
-                       f"{c[0]['accel']} and {fmt(c[-1]['diffuse_over_primary'])}x for {c[-1]['accel']}.")
-        mem = [r for r in survey if r.get("bytes_per_prim")]
-        if mem:
-            m = sorted(mem, key=lambda r: r["bytes_per_prim"])
-            out.append(f"Storage ranges from {fmt(m[0]['bytes_per_prim'])} bytes a primitive ({m[0]['accel']}) to "
-                       f"{fmt(m[-1]['bytes_per_prim'])} ({m[-1]['accel']}).")
+        # the structures at either end of a column: (sentence, column, digits)
+        for text, col, digits in (
+                ("Time per ray grows slowest with scene size for {lo} (N^{vlo}) and fastest for {hi} (N^{vhi}).",
+                 "growth", 2),
+                ("Incoherent rays cost {vlo}x the primary rays' time for {lo} and {vhi}x for {hi}.",
+                 "diffuse_over_primary", 3),
+                ("Storage ranges from {vlo} bytes a primitive ({lo}) to {vhi} ({hi}).", "bytes_per_prim", 3)):
+            have = sorted((r for r in survey if r.get(col) is not None), key=lambda r: r[col])
+            if have:
+                out.append(text.format(lo=have[0]["accel"], hi=have[-1]["accel"], vlo=fmt(have[0][col], digits),
+                                       vhi=fmt(have[-1][col], digits)))
     return out
 
 

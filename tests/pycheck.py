@@ -1,6 +1,7 @@
 """pycheck.py: the assertion helpers of the Python test programs, as check.h
 is the C ones': check() counts a pass or prints "FAIL: what" and counts a
-failure; report() prints "N passed, N failed" and exits 1 on a failure."""
+failure; report() prints "N passed, N failed" and exits 1 on a failure;
+close() compares numbers within a relative tolerance."""
 import sys
 
 _counts = {"passed": 0, "failed": 0}
@@ -12,6 +13,11 @@ def check(cond, what):
     else:
         _counts["failed"] += 1
         print(f"FAIL: {what}", file=sys.stderr)
+
+
+def close(a, b, tol=1e-9):
+    """a within tol of b, relative to |b| (absolute below 1); False when either is None."""
+    return a is not None and b is not None and abs(a - b) <= tol * max(1.0, abs(b))
 
 
 def report():

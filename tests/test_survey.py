@@ -25,13 +25,9 @@ SRC = os.environ.get("SRCDIR", os.path.join(os.path.dirname(os.path.abspath(__fi
 sys.path.insert(0, os.path.join(SRC, "scripts"))
 import survey  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pycheck import check, report as report_checks  # noqa: E402
+from pycheck import check, close, report as report_checks  # noqa: E402
 
 ACCELBENCH = os.environ.get("ACCELBENCH", os.path.join(SRC, "build", "harness", "accelbench"))
-
-
-def close(a, b, tol=1e-9):
-    return a is not None and b is not None and abs(a - b) <= tol * max(1.0, abs(b))
 
 
 # geo_interval by hand
