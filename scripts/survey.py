@@ -32,7 +32,8 @@ OUT/tune/ (training rays, then the default and the choice measured),
 primitives into OUT/exhaustive/, scripts/predict.py on OUT/tune/; each
 is resumable, every child gets an argument vector. Written: OUT/survey.csv,
 OUT/survey.md (the table and the findings, also printed).
-Exit status: the first failing child's (2 on bad input), else 0."""
+Exit status: the first failing child's (2 on bad input), else 1 when a
+cell's answers had a real mismatch against Embree's, else 0."""
 import argparse
 import math
 import os
@@ -315,6 +316,10 @@ def main(argv=None):
     recs = analyse(rows + [dict(r, ratio_vs_embree=r.get("ratio_vs_embree", "")) for r in erows], tuning, prediction,
                    defaults, test_cost(erows))
     lines = findings(recs)
+    # every cell's answers were checked against Embree's by the runs; a real mismatch fails the survey
+    checked = rows + erows
+    real = sum(int(num(r.get("mismatch_real")) or 0) for r in checked)
+    lines.append(f"Verification: {len(checked)} cells, {real} real mismatches against Embree.")
     common.write_csv(os.path.join(args.out, "survey.csv"), COLS,
                      [[r.get(c) for c in COLS] for r in recs], lambda v: fmt(v, 6))
     text = markdown(recs, lines, args.scenes, args.res, args.repeat)
@@ -322,6 +327,9 @@ def main(argv=None):
     print(text if not args.quiet else "\n".join(f"finding: {x}" for x in lines))
     if not args.quiet:
         print(f"wrote {os.path.join(args.out, 'survey.csv')}\nwrote {os.path.join(args.out, 'survey.md')}")
+    if real:
+        print(f"{PROG}: {real} real mismatches against Embree (the cells' mismatch_real)", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -108,6 +108,7 @@ with tempfile.TemporaryDirectory() as tmp:
         md = open(os.path.join(out, "survey.md")).read()
         check("## Findings" in md and "| family | structure |" in md, "survey.md: table and findings")
         check("finding:" in r.stdout, f"findings printed: {r.stdout[:200]}")
+        check("real mismatches against Embree" in md, "survey.md states the verification")
     for args in (["--threads", "2"], ["--memcap", "100"], ["--bogus"]):
         r = subprocess.run([ACCELBENCH, "reproduce", "survey"] + args + ["--out", os.path.join(tmp, "bad")],
                            capture_output=True, text=True)
