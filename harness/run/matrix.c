@@ -340,7 +340,7 @@ int matrix_run(options *o)
     free(mine);
     if (!o->quiet && status == 0) {
         int skipped = index - measured - failed_builds;
-        if (measured == 0 && cells.total > 0)
+        if (measured == 0 && failed_builds == 0 && cells.total > 0)
             fprintf(stderr, "nothing to measure: all %d cells of this run are in %s\n", cells.total, csv_path);
         else
             fprintf(stderr, "wrote %s (%d cells measured%s, %.1f s)\n", csv_path, measured,
