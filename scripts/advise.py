@@ -46,7 +46,6 @@ Exit status 2 on bad input (one line naming it), 1 when a run failed."""
 import argparse
 import os
 import statistics
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -56,6 +55,7 @@ import predict  # noqa: E402
 PROG = "advise.py"
 num = common.num
 fmt = common.fmt_g
+mix_cost = common.mix_cost
 COUNTERS = (("box_ns", "box_tests_per_ray", "box tests"), ("test_ns", "tests_per_ray", "primitive tests"),
             ("step_ns", "steps_per_ray", "steps"))
 EMBREE_PROXY = "bvh"
@@ -91,15 +91,6 @@ def load_kind_costs(folder):
         return {}
     return {r["kind"]: num(r["test_ns"]) for r in common.load_rows(path, ("kind", "test_ns"))
             if num(r["test_ns"]) is not None}
-
-
-def mix_cost(kind_costs, kinds):
-    """A primitive test of a scene's mix ({kind: count}) at the calibrated prices by kind; None when a kind the
-    scene holds has no price."""
-    n = sum(kinds.values()) if kinds else 0
-    if not n or any(c and k not in kind_costs for k, c in kinds.items()):
-        return None
-    return sum(kind_costs[k] * c / n for k, c in kinds.items() if c)
 
 
 def calibrated_config(costs, accel, params):
@@ -222,7 +213,7 @@ ADVICE_COLS = ["scene", "workload", "rank", "accel", "setting", "predicted_ns_pe
 
 
 def write_advice(out, recs, cal_source):
-    rows, md = [], [f"# Advice: which structure, predicted before tracing\n",
+    rows, md = [], ["# Advice: which structure, predicted before tracing\n",
                     f"Calibration: `{cal_source}`. Each candidate at its best predicted setting; ratios to Embree's "
                     "predicted time (bvh's prediction times the calibrated Embree / bvh).\n"]
     for scene, w in cells(recs):
@@ -246,14 +237,11 @@ def check(args, recs):
         argv = [args.accelbench, "run", "--scenes", scene, "--accels", ",".join(r["label"] for r in mine),
                 "--workloads", w, "--res", args.res, "--repeat", args.repeat, "--seed", args.seed, "--threads", "1",
                 "--no-plots", "--out", os.path.join(args.out, "check")]
-        p = subprocess.run(argv, stdout=subprocess.DEVNULL if args.quiet else None,
-                           stderr=subprocess.PIPE if args.quiet else None, text=True, errors="replace")
-        if p.returncode != 0:
-            if args.quiet:
-                sys.stderr.write("".join(p.stderr.splitlines(True)[-5:]))
-            print(f"{PROG}: the measuring run of {scene} / {w} failed (exit {p.returncode}); run the same "
+        rc = common.run_child(argv, args.quiet)
+        if rc != 0:
+            print(f"{PROG}: the measuring run of {scene} / {w} failed (exit {rc}); run the same "
                   "command again to resume", file=sys.stderr)
-            return p.returncode
+            return rc
     return 0
 
 

@@ -108,10 +108,7 @@ def cells_of(rows):
     """Per configuration, its cells with a time and every counter it counts."""
     out = {}
     for r in rows:
-        ns = None
-        t, n = num(r.get("trace_ms")), num(r.get("rays"))
-        if t is not None and n:
-            ns = t * 1e6 / n
+        ns = common.ns_per_ray(r)
         vals = {col: num(r.get(col)) for _, col in TERMS}
         if ns is None or ns <= 0 or all(v is None for v in vals.values()):
             continue
@@ -152,32 +149,31 @@ def kind_costs(all_cells, kinds, without=None):
 
 
 def test_cost(all_cells, kinds=None, without=None):
-    """What one shared primitive test costs: a function of the scene, the scene's mix priced by kind (where every
-    kind it holds has a cost), else exhaustive's cost of the calibration's mix; None without exhaustive's cells."""
+    """What one shared primitive test costs, and the prices by kind it came from (kind_costs, or None): a function
+    of the scene, the scene's mix at those prices (where every kind it holds has one), else exhaustive's cost of
+    the calibration's mix; (None, None) without exhaustive's cells."""
     cells = shared_cells(all_cells, without)
     if not cells:
-        return None
+        return None, None
     coef, _, _ = fit(cells, [("test_ns", "tests_per_ray")])
     mix = coef[1] or None
     by_kind = kind_costs(all_cells, kinds or {}, without)
     if not by_kind:
-        return mix
-    costs = by_kind[0]
+        return mix, None
 
     def of_scene(scene):
-        k = (kinds or {}).get(scene)
-        n = sum(k.values()) if k else 0
-        if not n or any(k[x] and x not in costs for x in k):
-            return mix
-        return sum(costs[x] * k[x] / n for x in costs)
-    return of_scene
+        priced = common.mix_cost(by_kind[0], (kinds or {}).get(scene))
+        return mix if priced is None else priced
+    return of_scene, by_kind
 
 
 def calibrate(rows, kinds=None):
-    """(per-configuration results, per-cell rows); kinds: {scene: {kind: count}} where known."""
+    """(per-configuration results, per-cell rows, the prices of a test by kind as kind_costs gives them or None);
+    kinds: {scene: {kind: count}} where known."""
     results, per_cell = [], []
     all_cells = cells_of(rows)
-    shared = test_cost(all_cells, kinds)
+    shared, by_kind = test_cost(all_cells, kinds)
+    held_cost = {}  # the shared test's cost without each scene, for the held-out fits of every configuration
     for cfg, cells in all_cells.items():
         # the counters this structure counts, present in every cell; one the same in every cell (lightbuf's
         # one cell read per query) cannot be told from the fixed cost and folds into it
@@ -208,7 +204,9 @@ def calibrate(rows, kinds=None):
                 train = [c for c in cells if c[0] != s]
                 if len(train) < len(terms) - len(given) + 2:
                     continue
-                g = {"test_ns": test_cost(all_cells, kinds, s) or shared} if given else {}
+                if given and s not in held_cost:
+                    held_cost[s] = test_cost(all_cells, kinds, s)[0] or shared
+                g = {"test_ns": held_cost[s]} if given else {}
                 _, _, predict = fit(train, terms, g)
                 for i, c in enumerate(cells):
                     if c[0] == s:
@@ -219,7 +217,7 @@ def calibrate(rows, kinds=None):
             per_cell.append({"config": cfg, "scene": c[0], "workload": c[1], "measured_ns": c[3], "fitted_ns": f,
                              "rel_error": (f - c[3]) / c[3],
                              "held_out_ns": h, "held_out_rel_error": None if h is None else (h - c[3]) / c[3]})
-    return results, per_cell
+    return results, per_cell, by_kind
 
 
 # each counter, the predicted column of the same counter, then the others in the order a stand-in is taken
@@ -269,7 +267,7 @@ def main(argv=None):
     csv_path, rows, out, labels = common.run_folder_rows(args.run, args.out, REQUIRED, args.accelbench)
     kinds = common.scene_kinds(args.accelbench, list(dict.fromkeys(r["scene"] for r in rows))) \
         if args.accelbench else {}
-    results, per_cell = calibrate(rows, kinds)
+    results, per_cell, by_kind = calibrate(rows, kinds)
     cpu, threads = common.column_values(rows, "cpu"), common.column_values(rows, "threads")
     names = [n for n, _ in TERMS]
     header = ["cpu", "isa", "threads", "configuration", "accel", "params", "cells", "fixed_ns"] + names + [
@@ -299,19 +297,17 @@ def main(argv=None):
     for r, rec in zip(results, recs):
         md.append("| " + " | ".join([rec[3], str(rec[6])] + [fmt(v) for v in rec[7:11]] +
                                     [fmt(v, 2) if v is not None else "" for v in rec[11:15]] + [rec[15] or ""]) + " |")
-    path = os.path.join(out, "calibration.md")
-    common.write_text(path, "\n".join(md) + "\n")
-    written.append(path)
-    by_kind = kind_costs(cells_of(rows), kinds)
-    path = os.path.join(out, "calibration_kinds.csv")
-    write_csv(path, ["cpu", "isa", "kind", "test_ns", "cells", "r2"],
-              [[cpu, args.isa, k, v, by_kind[2], by_kind[1]] for k, v in by_kind[0].items()] if by_kind else [])
-    written.append(path)
     if by_kind:
         md.append("\nA primitive test by kind (exhaustive's cells, each test of a scene's mix split by its shares of "
                   f"the kinds; R^2 {fmt(by_kind[1], 2)}): " +
                   ", ".join(f"{k} {fmt(v)} ns" for k, v in by_kind[0].items()) + ".")
-        common.write_text(os.path.join(out, "calibration.md"), "\n".join(md) + "\n")
+    path = os.path.join(out, "calibration.md")
+    common.write_text(path, "\n".join(md) + "\n")
+    written.append(path)
+    path = os.path.join(out, "calibration_kinds.csv")
+    write_csv(path, ["cpu", "isa", "kind", "test_ns", "cells", "r2"],
+              [[cpu, args.isa, k, v, by_kind[2], by_kind[1]] for k, v in by_kind[0].items()] if by_kind else [])
+    written.append(path)
     scales = workload_scales(rows)
     path = os.path.join(out, "calibration_workloads.csv")
     cols = list(PREDICTED)

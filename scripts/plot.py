@@ -650,6 +650,24 @@ def run_folder_rows(run, out=None, required=REQUIRED, accelbench=None):
     return csv_path, rows, folder, config_labels(rows, defaults=accel_defaults_from_env(accelbench))
 
 
+def ns_per_ray(row):
+    """A row's trace time per ray in ns, or None without a time or rays."""
+    t, n = num(row.get("trace_ms")), num(row.get("rays"))
+    return t * 1e6 / n if t is not None and n else None
+
+
+def run_child(argv, quiet):
+    """Run argv (an argument vector, never a shell): its exit status. Its output passes through; quiet, it is
+    held back, and on a failure the last lines of its errors are printed."""
+    import subprocess
+    if not quiet:
+        return subprocess.run(argv).returncode
+    p = subprocess.run(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, errors="replace")
+    if p.returncode != 0:
+        sys.stderr.write("".join(p.stderr.splitlines(True)[-5:]))
+    return p.returncode
+
+
 PRIM_KINDS = ("triangles", "spheres", "cones", "polygons")
 _SCENE_INFO = re.compile(r"^primitives \d+: (\d+) triangles \(\d+ degenerate\), (\d+) spheres, (\d+) cones, "
                          r"(\d+) polygons", re.M)
@@ -666,6 +684,15 @@ def scene_kinds(accelbench, scenes):
         if m:
             out[s] = dict(zip(PRIM_KINDS, (int(x) for x in m.groups())))
     return out
+
+
+def mix_cost(prices, kinds):
+    """One primitive test of a scene's mix ({kind: count}) at prices {kind: ns}; None when the scene holds no
+    primitive or a kind without a price."""
+    n = sum(kinds.values()) if kinds else 0
+    if not n or any(c and k not in prices for k, c in kinds.items()):
+        return None
+    return sum(prices[k] * c / n for k, c in kinds.items() if c)
 
 
 def fmt_g(v, digits=3):

@@ -117,11 +117,6 @@ def work(row, kind):
     return total
 
 
-def ns_per_ray(row):
-    t, n = num(row.get("trace_ms")), num(row.get("rays"))
-    return t * 1e6 / n if t is not None and n else None
-
-
 def analyse(rows, labels, workloads):
     """The accuracy rows and the time rows (lists of dicts, CSV_COLUMNS and TIME_COLUMNS)."""
     acc, timing = [], []
@@ -138,7 +133,7 @@ def analyse(rows, labels, workloads):
                     acc.append(dict(zip(CSV_COLUMNS, (labels[cfg], cfg[0], cfg[1], name, w, n, rho, err, ratio))))
         for w in workloads:
             sel = [r for r in mine if r["workload"] == w]
-            trip = [(work(r, "predicted_"), work(r, ""), ns_per_ray(r)) for r in sel]
+            trip = [(work(r, "predicted_"), work(r, ""), common.ns_per_ray(r)) for r in sel]
             trip = [t for t in trip if None not in t]
             if trip:
                 rp = spearman([a for a, _, _ in trip], [c for _, _, c in trip])

@@ -38,7 +38,6 @@ import argparse
 import math
 import os
 import statistics
-import subprocess
 import sys
 
 import numpy as np
@@ -50,6 +49,8 @@ import tune  # noqa: E402
 PROG = "survey.py"
 num = common.num
 fmt = common.fmt_g
+ns_per_ray = common.ns_per_ray
+run = common.run_child
 WORKLOADS = "primary,shadow,reflection,diffuse,random"
 EXHAUSTIVE_MAX = 20000
 # family, structures, in the survey's order; the last two families are the baseline and the peers
@@ -89,20 +90,6 @@ def growth_exponent(cells):
     y = np.array([math.log(t) for _, _, t in cells])
     coef, *_ = np.linalg.lstsq(X, y, rcond=None)
     return float(coef[0])
-
-
-def ns_per_ray(r):
-    t, n = num(r.get("trace_ms")), num(r.get("rays"))
-    return t * 1e6 / n if t and n else None
-
-
-def run(argv, quiet):
-    if not quiet:
-        return subprocess.run(argv).returncode
-    p = subprocess.run(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, errors="replace")
-    if p.returncode != 0:
-        sys.stderr.write("".join(p.stderr.splitlines(True)[-5:]))
-    return p.returncode
 
 
 def test_cost(rows):
@@ -311,8 +298,7 @@ def main(argv=None):
                                                                              "rank_corr"))
     tuning = common.load_rows(os.path.join(tdir, "tuning.csv"), ("scene", "workload", "accel", "key", "tuned", "gain")) \
         if os.path.isfile(os.path.join(tdir, "tuning.csv")) else []
-    listing = subprocess.run([args.accelbench, "list", "accels"], capture_output=True, text=True).stdout
-    defaults = common.parse_accel_listing(listing)[0]
+    defaults = common.accel_defaults_from_env(args.accelbench)
     recs = analyse(rows + [dict(r, ratio_vs_embree=r.get("ratio_vs_embree", "")) for r in erows], tuning, prediction,
                    defaults, test_cost(erows))
     lines = findings(recs)

@@ -67,15 +67,8 @@ def half_res(res):
 
 
 def run(accelbench, args, quiet):
-    """accelbench with args (a list): its exit status. Its output passes through; quiet, it is held back, and
-    on a failure the last lines of its errors are printed."""
-    if not quiet:
-        return subprocess.run([accelbench] + args).returncode
-    p = subprocess.run([accelbench] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                       errors="replace")
-    if p.returncode != 0:
-        sys.stderr.write("".join(p.stderr.splitlines(True)[-5:]))
-    return p.returncode
+    """accelbench with args (a list): its exit status (plot.run_child)."""
+    return common.run_child([accelbench] + args, quiet)
 
 
 def rows_of(path):

@@ -75,14 +75,14 @@ static int read_candidates(const char *list, const struct accel_ops **ops, int m
     }
     *n = 0;
     for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        const struct accel_ops *a = accel_find(tok);
-        if (!a) {
-            fprintf(stderr, "accelbench advise: --accels: unknown accelerator '%s' (see: accelbench list accels)\n",
+        if (strchr(tok, '[')) {
+            fprintf(stderr, "accelbench advise: --accels: %s: give names only; advise searches the parameters\n",
                     term_text(tok));
             return 2;
         }
-        if (strchr(tok, '[')) {
-            fprintf(stderr, "accelbench advise: --accels: %s: give names only; advise searches the parameters\n",
+        const struct accel_ops *a = accel_find(tok);
+        if (!a) {
+            fprintf(stderr, "accelbench advise: --accels: unknown accelerator '%s' (see: accelbench list accels)\n",
                     term_text(tok));
             return 2;
         }
@@ -121,46 +121,17 @@ static int check_workloads(const char *list)
     return 0;
 }
 
-/* The scenes of SCENE: a list and sets expanded, each checked without
- * being read. 0, or 2 after printing why. */
-static int read_scenes(const char *arg, char *buf, size_t len, const char **scenes, int max, int *n)
+/* The scenes of SCENE into o (a list and sets expanded, as run's --scenes),
+ * each checked without being read. 0, or 2 after printing why. */
+static int read_scenes(const char *arg, options *o)
 {
-    *n = 0;
-    size_t used = 0;
-    char items[4096];
-    if (snprintf(items, sizeof items, "%s", arg) >= (int)sizeof items) {
-        fprintf(stderr, "accelbench advise: SCENE: the list is too long\n");
-        return 2;
-    }
-    for (char *save = NULL, *tok = strtok_r(items, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        char expanded[4096];
-        int set = scene_set_expand(tok, expanded, sizeof expanded);
-        if (set < 0) {
-            fprintf(stderr, "accelbench advise: set '%s' is too long to expand\n", term_text(tok));
+    if (options_add_scenes(o, arg)) return 2;
+    for (int i = 0; i < o->nscenes; i++) {
+        char err[512];
+        if (scene_check(o->scenes[i], err, sizeof err)) {
+            fprintf(stderr, "accelbench advise: %s\n", err);
             return 2;
         }
-        const char *names = set == 1 ? expanded : tok;
-        char copy[4096];
-        snprintf(copy, sizeof copy, "%s", names);
-        for (char *s2 = NULL, *one = strtok_r(copy, ",", &s2); one; one = strtok_r(NULL, ",", &s2)) {
-            char err[512];
-            if (scene_check(one, err, sizeof err)) {
-                fprintf(stderr, "accelbench advise: %s\n", err);
-                return 2;
-            }
-            size_t l = strlen(one) + 1;
-            if (*n == max || used + l > len) {
-                fprintf(stderr, "accelbench advise: too many scenes (at most %d)\n", max);
-                return 2;
-            }
-            memcpy(buf + used, one, l);
-            scenes[(*n)++] = buf + used;
-            used += l;
-        }
-    }
-    if (*n == 0) {
-        fprintf(stderr, "accelbench advise: SCENE: no scene named\n");
-        return 2;
     }
     return 0;
 }
@@ -184,9 +155,6 @@ static double stat_or_nan(const accel_stat *st, int n, const char *name)
         if (!strcmp(st[i].name, name)) return st[i].value;
     return NAN;
 }
-
-static const char *const predicted_columns[] = {"predicted_tests_per_ray", "predicted_box_tests_per_ray",
-                                                "predicted_steps_per_ray", NULL};
 
 /* One build: its prediction written as a row of f. 0, or -1 when the build failed (said on stderr). */
 static int predict_one(FILE *f, const scene_t *s, const struct accel_ops *a, const char *key, const char *value,
@@ -220,8 +188,8 @@ static int predict_one(FILE *f, const scene_t *s, const struct accel_ops *a, con
         if (i == 0) fprintf(f, ",%u,%u", (unsigned)s->prims.count, (unsigned)s->nlights);
     }
     fprintf(f, ",%d,%.6g,%zu", candidate ? 1 : 0, ms, mem);
-    for (int i = 0; predicted_columns[i]; i++) {
-        double v = stat_or_nan(st, n, predicted_columns[i]);
+    for (int i = 0; csv_predicted_columns[i]; i++) {
+        double v = stat_or_nan(st, n, csv_predicted_columns[i]);
         if (isnan(v)) fputc(',', f);
         else fprintf(f, ",%.9g", v);
     }
@@ -242,7 +210,7 @@ static int write_predictions(const char *path, const char **scenes, int nscenes,
         return 1;
     }
     fprintf(f, "scene,prims,lights,accel,label,params,key,value,candidate,build_ms,mem_bytes");
-    for (int i = 0; predicted_columns[i]; i++) fprintf(f, ",%s", predicted_columns[i]);
+    for (int i = 0; csv_predicted_columns[i]; i++) fprintf(f, ",%s", csv_predicted_columns[i]);
     fputc('\n', f);
     int built = 0, failed = 0;
     const struct accel_ops *proxy = accel_find(ADVISE_EMBREE_PROXY);
@@ -334,26 +302,27 @@ int advise_main(int argc, char **argv)
     const struct accel_ops *cands[OPT_LIST_MAX];
     int ncands;
     if (read_candidates(accels, cands, OPT_LIST_MAX, &ncands)) return 2;
-    static char scene_buf[16384];
-    const char *scenes[OPT_LIST_MAX];
-    int nscenes;
-    if (read_scenes(scene_arg, scene_buf, sizeof scene_buf, scenes, OPT_LIST_MAX, &nscenes)) return 2;
-    if (check_workloads(workloads)) return 2;
+    options scenes = {0};
+    int rc = read_scenes(scene_arg, &scenes);
+    if (rc == 0) rc = check_workloads(workloads);
     char cal_csv[PATH_MAX];
     snprintf(cal_csv, sizeof cal_csv, "%s/calibration.csv", calibration);
-    if (access(cal_csv, R_OK) != 0) {
+    if (rc == 0 && access(cal_csv, R_OK) != 0) {
         fprintf(stderr, "accelbench advise: %s: %s (run `accelbench calibrate --out %s` first, or name one with "
                         "--calibration DIR)\n", term_text(cal_csv), strerror(errno), term_text(calibration));
-        return 2;
+        rc = 2;
     }
     char dir[PATH_MAX], path[PATH_MAX + 32], script[PATH_MAX], self[PATH_MAX];
-    if (output_folder(out, "advise-", dir, sizeof dir)) return 2;
-    /* This binary's path, read before the builds: a rebuild meanwhile would leave /proc/self/exe "(deleted)". */
-    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    self[n > 0 ? n : 0] = 0;
-    memory_cap_set_mib(0);
-    snprintf(path, sizeof path, "%s/predictions.csv", dir);
-    int rc = write_predictions(path, scenes, nscenes, cands, ncands, tune, quiet);
+    if (rc == 0) rc = output_folder(out, "advise-", dir, sizeof dir);
+    if (rc == 0) {
+        /* This binary's path, read before the builds: a rebuild meanwhile would leave /proc/self/exe "(deleted)". */
+        ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+        self[n > 0 ? n : 0] = 0;
+        memory_cap_set_mib(0);
+        snprintf(path, sizeof path, "%s/predictions.csv", dir);
+        rc = write_predictions(path, scenes.scenes, scenes.nscenes, cands, ncands, tune, quiet);
+    }
+    options_free(&scenes);
     if (rc) return rc;
     snprintf(script, sizeof script, "%s/scripts/advise.py", ACCELBENCH_SOURCE_DIR);
     char *args[] = {(char *)python_interpreter(), script, dir, "--calibration", (char *)calibration, "--workloads",

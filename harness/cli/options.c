@@ -296,8 +296,7 @@ static void options_defaults(options *o, const char *cmd, int argc, char **argv,
     *a = (option_values){.accels = all_accels};
 }
 
-/* --scenes LIST: each scene once, a set's name standing for its scenes. 0, or 2 after printing why. */
-static int add_scenes(options *o, const char *arg)
+int options_add_scenes(options *o, const char *arg)
 {
     char *dup = owned_copy(o, arg);
     const char *items[OPT_LIST_MAX];
@@ -403,7 +402,7 @@ static int read_option(options *o, const char *cmd, int c, char **argv, option_v
 {
     long v;
     switch (c) {
-    case 's': return add_scenes(o, optarg);
+    case 's': return options_add_scenes(o, optarg);
     case 'a': a->accels = optarg; break;
     case 'w': a->workloads = optarg; break;
     case 't': if (options_parse_long("threads", optarg, 1, 1024, &v)) return 2; o->threads = (int)v; break;

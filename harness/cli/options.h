@@ -27,6 +27,11 @@ int options_parse_long(const char *opt, const char *s, long lo, long hi, long *o
 int options_parse_seed(const char *s, uint64_t *out);
 int options_parse_res(const char *s, int *width, int *height);
 
+/* --scenes LIST into o->scenes: each scene once, a set's name standing for
+ * its scenes (the names are o's own copies; options_free frees them). 0,
+ * or 2 after printing why. advise reads its SCENE operand with it. */
+int options_add_scenes(options *o, const char *arg);
+
 /* Parse the options of subcommand `cmd` (run, verify, render). Returns 0,
  * 1 after printing --help, or 2 after printing a one-line error. */
 int options_parse(options *o, const char *cmd, int argc, char **argv);

@@ -19,13 +19,13 @@ static const char *const columns_head[] = {
 };
 /* Statistics that have columns of their own (in columns_head, beside the
  * measured counters they predict) instead of stat_ ones. */
-static const char *const columns_from_stats[] = {"predicted_tests_per_ray", "predicted_box_tests_per_ray",
-                                                 "predicted_steps_per_ray", NULL};
+const char *const csv_predicted_columns[] = {"predicted_tests_per_ray", "predicted_box_tests_per_ray",
+                                             "predicted_steps_per_ray", NULL};
 
 static bool own_column(const char *stat)
 {
-    for (int i = 0; columns_from_stats[i]; i++)
-        if (!strcmp(columns_from_stats[i], stat)) return true;
+    for (int i = 0; csv_predicted_columns[i]; i++)
+        if (!strcmp(csv_predicted_columns[i], stat)) return true;
     return false;
 }
 
@@ -170,7 +170,7 @@ static void put_row(FILE *f, const csv_row *r)
     put_per_ray(f, r, r->counters.steps);
     put_per_ray(f, r, r->counters.empty_leaves);
     put_per_ray(f, r, r->counters.mailbox_hits);
-    for (int i = 0; columns_from_stats[i]; i++) put_stat(f, r, columns_from_stats[i]);
+    for (int i = 0; csv_predicted_columns[i]; i++) put_stat(f, r, csv_predicted_columns[i]);
     fprintf(f, ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64, r->agree, r->mismatch_real,
             r->mismatch_edge, r->mismatch_tol, r->mismatch_refwrong);
     fprintf(f, ",%" PRIu64 ",%" PRIu64 ",%" PRIu32 ",%.1f", r->mismatch_origin, r->mismatch_unjudged, r->illposed_rays,

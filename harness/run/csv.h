@@ -56,6 +56,9 @@ typedef struct {
 /* The header line (no newline) into buf; the longest is under CSV_HEADER_MAX. */
 #define CSV_HEADER_MAX 4096
 void csv_header(char *buf, size_t len);
+/* The statistics with CSV columns of their own (a cost model's predicted
+ * counters per ray), NULL-terminated. */
+extern const char *const csv_predicted_columns[];
 /* The number of columns of csv_header(). */
 int csv_columns(void);
 /* The 0-based index of column `name` in csv_header(), or -1. */
