@@ -2,7 +2,10 @@
 """From counters to time: what a box test, a primitive test and a traversal step cost on this machine.
 
 For each accelerator configuration of a run folder's matrix.csv, the trace
-time per ray of each cell (scene x workload) is fitted by least squares,
+time per ray of each cell (scene x workload; read through its pairing: its
+ratio to Embree times the cell's median Embree time, so that a load that
+slowed one row and its paired Embree samples does not move it) is fitted by
+least squares,
 with every cost kept at or above 0, as
     ns per ray = fixed + box_ns * box tests + test_ns * primitive tests + step_ns * steps
 (the counters per ray the walks measured; a counter the structure does not
@@ -107,8 +110,9 @@ def r_squared(y, yhat):
 def cells_of(rows):
     """Per configuration, its cells with a time and every counter it counts."""
     out = {}
-    for r in rows:
-        ns = common.ns_per_ray(r)
+    paired = common.paired_ns_per_ray(rows)
+    for i, r in enumerate(rows):
+        ns = paired[i]
         vals = {col: num(r.get(col)) for _, col in TERMS}
         if ns is None or ns <= 0 or all(v is None for v in vals.values()):
             continue

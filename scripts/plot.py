@@ -46,6 +46,7 @@ import os
 import re
 import stat
 import sys
+import statistics
 
 import warnings
 
@@ -654,6 +655,26 @@ def ns_per_ray(row):
     """A row's trace time per ray in ns, or None without a time or rays."""
     t, n = num(row.get("trace_ms")), num(row.get("rays"))
     return t * 1e6 / n if t is not None and n else None
+
+
+def paired_ns_per_ray(rows):
+    """Each row's trace time per ray in ns, read through its pairing with Embree: its ratio to Embree times
+    Embree's time per ray on that cell (scene, workload, rays, threads), the median over the rows that measured
+    it. On a shared machine the load moves a row's time and its paired Embree time together: the ratio is
+    stable and the cell's median Embree time is the least disturbed measure of the cell. A row without a ratio
+    keeps its own time. A list in the rows' order; None where a row has no time."""
+    def cell(r):
+        return r.get("scene"), r.get("workload"), r.get("rays"), r.get("threads")
+    embree = {}
+    for r in rows:
+        e, n = num(r.get("embree_ms")), num(r.get("rays"))
+        if e and n:
+            embree.setdefault(cell(r), []).append(e * 1e6 / n)
+    out = []
+    for r in rows:
+        ratio, ref = num(r.get("ratio_vs_embree")), embree.get(cell(r))
+        out.append(ratio * statistics.median(ref) if ratio and ref else ns_per_ray(r))
+    return out
 
 
 def run_child(argv, quiet):

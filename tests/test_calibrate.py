@@ -21,7 +21,11 @@ known costs:
   - by kind: prices of a triangle, sphere and cone test recovered exactly
     from exhaustive's cells on scenes of known mixes, and a grid given each
     scene's mix at those prices with its other costs recovered;
-  - Embree's rows are left out.
+  - Embree's rows are left out;
+  - a time read through its pairing (plot.paired_ns_per_ray): a row whose
+    time and paired Embree time a load doubled reads as its ratio times
+    the cell's median Embree time, the undisturbed one; a row without a
+    ratio keeps its own time.
 Then `accelbench calibrate --from` on that folder writes the three files
 and keys them by cpu and isa, and bad input (--from a missing folder,
 --threads 0, an unknown option, a stray argument) exits 2 with one line.
@@ -172,6 +176,17 @@ g3 = res3.get("grid", {})
 check(g3.get("test_from") == "exhaustive by kind" and close(repr(g3.get("step_ns")), 6, 1e-6) and
       close(repr(g3.get("fixed_ns")), 25, 1e-6), f"grid at each scene's mix: {g3}")
 check(calibrate.kind_costs(cells, {"t": kinds["t"]}) is None, "a scene of unknown kinds: no prices")
+
+# --- times read through their pairing with Embree
+import plot  # noqa: E402
+cell = {"scene": "s", "workload": "primary", "rays": "1000", "threads": "1"}
+paired = [dict(cell, trace_ms="2", embree_ms="1", ratio_vs_embree="2"),   # 2000 ns, Embree 1000
+          dict(cell, trace_ms="3", embree_ms="1", ratio_vs_embree="3"),
+          dict(cell, trace_ms="8", embree_ms="2", ratio_vs_embree="4"),   # both doubled by a load
+          dict(cell, trace_ms="5", embree_ms="", ratio_vs_embree=""),
+          dict(cell, scene="t", trace_ms="1", embree_ms="4", ratio_vs_embree="0.25")]
+got = plot.paired_ns_per_ray(paired)
+check(got == [2000.0, 3000.0, 4000.0, 5000.0, 1000.0], f"paired times: {got}")
 
 # --- the command
 out = os.path.join(tmp, "cal")

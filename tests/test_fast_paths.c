@@ -77,9 +77,9 @@ static void check_grid_v2(const scene_t *s, rayset_t *primary)
         accel *a = build_variant(accel_find(names[k]), s, NULL);
         accel_stat st[ACCEL_STATS_MAX];
         int n = accel_stats(a, st, ACCEL_STATS_MAX); /* drops (and warns about) unregistered names */
-        /* the eight of the grid, then its cost model's predictions: all three for grid, steps alone for
-         * grid-raybox (whose ray boxes no model covers; tests/test_line_model.c checks the values) */
-        CHECK_MSG(n == (k == 0 ? 11 : 9), "%s: %d statistics", names[k], n);
+        /* the eight of the grid, then its cost model's three predictions (tests/test_line_model.c checks
+         * the values) */
+        CHECK_MSG(n == 11, "%s: %d statistics", names[k], n);
         double v[16] = {0};
         const char *want[] = {"nodes", "leaves", "empty_leaves", "avg_leaf_prims", "refs_per_prim", "res_x", "res_y", "res_z"};
         for (int i = 0; i < n && i < 8; i++) {
