@@ -45,8 +45,8 @@ import math
 import os
 import re
 import stat
-import sys
 import statistics
+import sys
 
 import warnings
 
